@@ -1,0 +1,64 @@
+"""Result tables: ``time`` plus ``<instance>.<variable>`` columns, indexable by name."""
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+
+class Table:
+    """Columns of equal length, by name; ``table['block.x']`` is a numpy array."""
+
+    def __init__(self, columns: dict[str, np.ndarray]):
+        self._columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
+
+    @classmethod
+    def from_rows(cls, names: list[str], rows: list[list[float]]) -> "Table":
+        data = np.array(rows, dtype=float).reshape(len(rows), len(names))
+        return cls({name: data[:, i] for i, name in enumerate(names)})
+
+    @property
+    def columns(self) -> list[str]:
+        return list(self._columns)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self._columns[name]
+        except KeyError:
+            raise KeyError(f"no column '{name}'; columns: {', '.join(self._columns)}") from None
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._columns
+
+    def __len__(self) -> int:
+        return len(next(iter(self._columns.values()))) if self._columns else 0
+
+    def to_structured(self) -> np.ndarray:
+        """The fmpy/numpy shape: a structured array with one field per column."""
+        out = np.zeros(len(self), dtype=[(name, float) for name in self._columns])
+        for name, values in self._columns.items():
+            out[name] = values
+        return out
+
+    def to_csv(self, path: str | Path) -> None:
+        with open(path, "w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(self.columns)
+            for row in zip(*self._columns.values()):
+                writer.writerow([repr(float(v)) for v in row])
+
+
+class Result(Table):
+    """A simulation result: the table at communication points, plus the events.
+
+    ``events[instance]`` is a Table of that instance's outputs at each event its
+    FMU located inside a step (time first), reported through FMI 3 intermediate
+    update, so event times are known to solver precision whatever the step.
+    """
+
+    def __init__(self, columns: dict[str, np.ndarray], events: dict[str, Table] | None = None,
+                 settings: dict | None = None):
+        super().__init__(columns)
+        self.events = events or {}
+        self.settings = settings or {}

@@ -1,0 +1,65 @@
+"""Running a scene: parameters applied, co-simulated, figures measured, files written."""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from .cosim import cosimulate
+from .plot import plot_result
+from .result import Result
+from .scenes import Figure, scene
+
+
+@dataclass
+class SceneRun:
+    name: str
+    result: Result
+    figures: list[Figure]
+
+    def summary(self) -> dict:
+        return {"scene": self.name, "settings": self.result.settings,
+                "figures": [{"name": f.name, "description": f.description, "measured": f.measured,
+                             "reference": f.reference, "error": f.error} for f in self.figures]}
+
+    def table(self) -> str:
+        lines = [f"{'figure':<10} {'measured':>16} {'reference':>16} {'error':>10}  description"]
+        for f in self.figures:
+            lines.append(f"{f.name:<10} {f.measured:>16.10g} {f.reference:>16.10g} {f.error:>10.2e}  "
+                         f"{f.description}")
+        s = self.result.settings
+        lines.append(f"stop time {s['stop_time']:g} s, step {s['step']:g} s, tolerance "
+                     f"{s['tolerance']:g}, {s['scheme']}, wall time {s['wall_s']:.2f} s")
+        return "\n".join(lines)
+
+
+def run_scene(name: str, stop_time: float | None = None, step: float | None = None,
+              tolerance: float | None = None, params: dict | None = None,
+              out: str | Path | None = None, scheme: str = "jacobi", progress=None) -> Result:
+    """Run a scene and return its result table (``res['block.x']``).
+
+    With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
+    The measured figures are on ``res.figures``.
+    """
+    return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress).result
+
+
+def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
+                   scheme="jacobi", progress=None) -> SceneRun:
+    sc = scene(name)
+    asm = sc.build()
+    for key, value in (params or {}).items():
+        asm.set(key, value)
+    result = cosimulate(asm, stop_time if stop_time is not None else sc.stop_time,
+                        step if step is not None else sc.step,
+                        tolerance if tolerance is not None else sc.tolerance,
+                        record=sc.record, scheme=scheme, progress=progress)
+    run = SceneRun(name, result, sc.figures(result, asm))
+    result.figures = run.figures
+    if out is not None:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        result.to_csv(out / f"{name}.csv")
+        plot_result(result, sc.plot, f"{name}: {sc.description}", out / f"{name}.png")
+        (out / f"{name}.json").write_text(json.dumps(run.summary(), indent=2) + "\n")
+    return run

@@ -1,0 +1,120 @@
+"""Scenes: named assemblies with an experiment, recorded outputs and reference figures."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+from components import ConstantSpeed, SpringBlock
+
+from .assembly import Assembly, AssemblyError
+from .references import friction_damping_turning_points, stick_slip_first_cycle
+from .result import Result
+
+
+@dataclass
+class Figure:
+    """One measured number beside its independent reference."""
+    name: str
+    description: str
+    measured: float
+    reference: float
+
+    @property
+    def error(self) -> float:
+        return abs(self.measured - self.reference)
+
+
+@dataclass
+class Scene:
+    name: str
+    description: str
+    build: Callable[[], Assembly]
+    stop_time: float
+    step: float
+    tolerance: float
+    record: list[str]
+    figures: Callable[[Result, Assembly], list[Figure]]
+    plot: list[str] = field(default_factory=list)
+
+
+def _mode_events(result: Result, instance: str):
+    """(time, x, mode) at each event the instance's FMU located."""
+    if instance not in result.events:
+        return []
+    ev = result.events[instance]
+    return list(zip(ev["time"], ev[f"{instance}.x"], ev[f"{instance}.mode"]))
+
+
+# --- stick_slip: seed 9.2 ----------------------------------------------------
+def _stick_slip() -> Assembly:
+    asm = Assembly("stick_slip")
+    asm.add("driver", ConstantSpeed(v=0.05))
+    asm.add("block", SpringBlock(m=1, k=1, g=1, mu_k=0.3, mu_s=0.4))
+    asm.connect("driver.flange", "block.flange_a")
+    return asm
+
+
+def _stick_slip_figures(result: Result, asm: Assembly) -> list[Figure]:
+    p, speed = asm.component("block").values, asm.component("driver").values["v"]
+    t1, t2, x2 = stick_slip_first_cycle(p["m"], p["k"], p["g"], p["mu_k"], p["mu_s"], speed)
+    events = _mode_events(result, "block")
+    slip = next(((t, x) for t, x, mode in events if mode == 1), (math.nan, math.nan))
+    stick = next(((t, x) for t, x, mode in events if mode == 0 and t > slip[0]), (math.nan, math.nan))
+    return [Figure("t1", "first slip time [s]", slip[0], t1),
+            Figure("t2", "first re-stick time [s]", stick[0], t2),
+            Figure("x(t2)", "position at re-stick [m]", stick[1], x2)]
+
+
+# --- friction_damping: seed 9.4 ----------------------------------------------
+def _friction_damping() -> Assembly:
+    asm = Assembly("friction_damping")
+    asm.add("wall", ConstantSpeed(v=0.0))
+    asm.add("block", SpringBlock(m=1, k=1, g=1, mu_k=0.6, mu_s=0.6, x=6.55))
+    asm.connect("wall.flange", "block.flange_a")
+    return asm
+
+
+def _friction_damping_figures(result: Result, asm: Assembly) -> list[Figure]:
+    p = asm.component("block").values
+    x0 = asm.component("block").starts["x"]
+    reference = friction_damping_turning_points(p["m"], p["k"], p["g"], p["mu_k"], x0)
+    # a turning point is an event that changes the mode: the block stops or reverses
+    measured = [(0.0, result["block.x"][0])]
+    previous = result["block.mode"][0]
+    for t, x, mode in _mode_events(result, "block"):
+        if mode != previous:
+            measured.append((t, x))
+        previous = mode
+    figures = []
+    for n, (t_ref, x_ref) in enumerate(reference):
+        t, x = measured[n] if n < len(measured) else (math.nan, math.nan)
+        figures.append(Figure(f"A{n}", f"turning point {n} [m]", x, x_ref))
+        if n:
+            figures.append(Figure(f"t_A{n}", f"time of turning point {n} [s]", t, t_ref))
+    figures.append(Figure("x_end", "position at the stop time [m]", result["block.x"][-1],
+                          reference[-1][1]))
+    return figures
+
+
+SCENES: dict[str, Scene] = {
+    "stick_slip": Scene(
+        "stick_slip", "seed 9.2: block pulled through a spring at constant speed, stick-slip",
+        _stick_slip, stop_time=40.0, step=0.1, tolerance=1e-10,
+        record=["block.x", "block.v", "block.f_friction", "block.mode", "driver.flange.s"],
+        figures=_stick_slip_figures, plot=["block.x", "block.v", "block.f_friction"]),
+    "friction_damping": Scene(
+        "friction_damping", "seed 9.4: free vibration with dry friction, amplitudes fall linearly",
+        _friction_damping, stop_time=20.0, step=0.1, tolerance=1e-10,
+        record=["block.x", "block.v", "block.f_friction", "block.mode"],
+        figures=_friction_damping_figures, plot=["block.x", "block.v"]),
+}
+
+
+def scene(name: str) -> Scene:
+    if name not in SCENES:
+        raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(SCENES)}")
+    return SCENES[name]
+
+
+__all__ = ["Figure", "SCENES", "Scene", "scene"]

@@ -1,0 +1,128 @@
+"""The base class every mechanical component derives from.
+
+A component is data (parameters, options, states, modes, ports, profiles,
+constraints) plus one method, ``equations(e)``, that states its physics as
+residuals in the symbols of an :class:`components.dae.EquationBuilder`. Values are
+checked here, when the component is made, so a bad parameter never reaches C.
+"""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+from .interfaces import (ComponentError, Constraint, Mode, Option, Parameter, Port,
+                         Profile, State)
+
+
+class Component:
+    parameters: tuple[Parameter, ...] = ()
+    options: tuple[Option, ...] = ()
+    states: tuple[State, ...] = ()
+    modes: tuple[Mode, ...] = ()
+    ports: tuple[Port, ...] = ()
+    profiles: tuple[Profile, ...] = ()
+    constraints: tuple[Constraint, ...] = ()
+    #: the experiment written into the FMU's DefaultExperiment
+    default_stop_time: float = 10.0
+
+    def __init__(self, name: str | None = None, profile: str | None = None, **values):
+        self.name = name or type(self).__name__
+        self.profile = self._pick_profile(profile)
+        self.values = {p.name: float(p.default) for p in self.parameters}
+        self.option_values = {o.name: o.default for o in self.options}
+        self.starts = {s.name: float(s.start) for s in self.states}
+        for key, value in values.items():
+            self.set(key, value)
+        self.validate()
+
+    # --- naming and lookup ---------------------------------------------------
+    def _where(self) -> str:
+        return f"{type(self).__name__} '{self.name}'"
+
+    def _pick_profile(self, name):
+        if not self.profiles:
+            raise ComponentError(f"{self._where()}: declares no causality profile")
+        if name is None:
+            return self.profiles[0]
+        for profile in self.profiles:
+            if profile.name == name:
+                return profile
+        known = ", ".join(p.name for p in self.profiles)
+        raise ComponentError(f"{self._where()}: unknown profile '{name}'; known profiles: {known}")
+
+    def settable_names(self) -> list[str]:
+        return ([p.name for p in self.parameters] + [o.name for o in self.options]
+                + [s.name for s in self.states])
+
+    def set(self, key: str, value) -> None:
+        """Set a parameter, an option or a state's start value, with checks."""
+        options = {o.name: o for o in self.options}
+        if key in options:
+            option = options[key]
+            if value not in option.choices:
+                raise ComponentError(
+                    f"{self._where()}: option {key} = {value!r} is not allowed; "
+                    f"choose one of {', '.join(option.choices)}")
+            self.option_values[key] = value
+            return
+        if key not in self.values and key not in self.starts:
+            raise ComponentError(
+                f"{self._where()}: unknown name '{key}'; settable names: "
+                f"{', '.join(self.settable_names())}")
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise ComponentError(f"{self._where()}: {key} = {value!r} is not a number") from None
+        if not math.isfinite(number):
+            if key in self.values:
+                p = next(p for p in self.parameters if p.name == key)
+                raise ComponentError(f"{self._where()}: parameter {key} = {value} is not allowed; "
+                                     f"{key} ({p.description}, {p.unit}) must be a finite number "
+                                     f"{p.allowed()}")
+            raise ComponentError(f"{self._where()}: start value {key} = {value} must be finite")
+        (self.values if key in self.values else self.starts)[key] = number
+
+    def validate(self) -> None:
+        for p in self.parameters:
+            value = self.values[p.name]
+            if p.violates(value):
+                raise ComponentError(
+                    f"{self._where()}: parameter {p.name} = {value:g} is not allowed; "
+                    f"{p.name} ({p.description}, {p.unit}) must be {p.allowed()}")
+        for s in self.states:
+            if not math.isfinite(self.starts[s.name]):
+                raise ComponentError(f"{self._where()}: start value of {s.name} must be finite")
+        namespace = SimpleNamespace(**self.values)
+        for c in self.constraints:
+            g = float(c.g(namespace))
+            if not (g > 0 if c.strict else g >= 0):
+                shown = ", ".join(f"{k} = {v:g}" for k, v in self.values.items())
+                raise ComponentError(f"{self._where()}: parameters violate {c.message} ({shown})")
+
+    def option(self, name: str) -> str:
+        return self.option_values[name]
+
+    def parameter_constraints(self) -> list[Constraint]:
+        """Every check on the parameters, ranges included, in one list for the FMU's C check."""
+        out = []
+        for p in self.parameters:
+            msg = f"{type(self).__name__}: {p.name} ({p.description}, {p.unit}) must be {p.allowed()}"
+            if p.min != -math.inf:
+                out.append(Constraint(lambda ns, p=p: getattr(ns, p.name) - p.min, msg, p.min_strict))
+            if p.max != math.inf:
+                out.append(Constraint(lambda ns, p=p: p.max - getattr(ns, p.name), msg))
+        out += [Constraint(c.g, f"{type(self).__name__}: parameters must satisfy {c.message}", c.strict)
+                for c in self.constraints]
+        return out
+
+    def equations(self, e) -> None:  # pragma: no cover - every component overrides it
+        raise NotImplementedError
+
+    @classmethod
+    def describe(cls) -> str:
+        """The first line of the docstring: what `mechfmu components` prints."""
+        return (cls.__doc__ or cls.__name__).strip().splitlines()[0]
+
+    def __repr__(self) -> str:
+        vals = ", ".join(f"{k}={v:g}" for k, v in self.values.items())
+        return f"{type(self).__name__}(name={self.name!r}, profile={self.profile.name!r}, {vals})"

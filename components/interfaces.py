@@ -1,0 +1,129 @@
+"""What every component is made of: parameters, states, modes, ports, causality profiles.
+
+A component declares these as class attributes and writes its physics in
+``equations(e)`` against the symbols that :class:`components.dae.EquationBuilder`
+hands it. Nothing here knows about FMI; :mod:`components.dae` turns a component and
+one causality profile into an explicit, mode-switched ODE.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+
+class ComponentError(ValueError):
+    """Bad input to a component: the message names the component and what is allowed."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A numeric parameter, exported to the FMU as a fixed parameter."""
+    name: str
+    default: float
+    unit: str
+    description: str
+    min: float = -math.inf
+    max: float = math.inf
+    min_strict: bool = False  # True: value must be > min, not >= min
+
+    def allowed(self) -> str:
+        lo = "" if self.min == -math.inf else f"{'>' if self.min_strict else '>='} {self.min:g}"
+        hi = "" if self.max == math.inf else f"<= {self.max:g}"
+        return " and ".join(s for s in (lo, hi) if s) or "any finite value"
+
+    def violates(self, value: float) -> bool:
+        if not math.isfinite(value):
+            return True
+        if self.min_strict and not value > self.min:
+            return True
+        return not (self.min <= value <= self.max)
+
+
+@dataclass(frozen=True)
+class Option:
+    """A structural choice fixed when the FMU is built (it changes the equations)."""
+    name: str
+    default: str
+    choices: tuple[str, ...]
+    description: str
+
+
+@dataclass(frozen=True)
+class State:
+    """A continuous state with its start value; ``output`` exposes it to the importer."""
+    name: str
+    start: float
+    unit: str
+    description: str
+    output: bool = True
+    derivative_unit: str = ""
+
+
+@dataclass(frozen=True)
+class Mode:
+    """A discrete state, changed only at events (an Int32 output of the FMU)."""
+    name: str
+    start: int
+    description: str
+    values: tuple[int, ...] = (-1, 0, 1)  # every value it can take
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """A relation between parameters that must hold: ``g(p) >= 0`` (``> 0`` if strict)."""
+    g: Callable  # (parameter namespace) -> expression
+    message: str  # what is allowed, e.g. "mu_k <= mu_s"
+    strict: bool = False
+
+
+# --- connectors -------------------------------------------------------------
+@dataclass(frozen=True)
+class Domain:
+    """An MSL-style connector type: across variables (with their derivatives) and one flow."""
+    name: str
+    across: tuple[tuple[str, str, str], ...]  # (name, unit, description), highest derivative last
+    flow: tuple[str, str, str] | None          # None for plain signals
+
+
+TRANSLATIONAL = Domain(
+    "translational",
+    across=(("s", "m", "absolute position of the flange"),
+            ("v", "m/s", "absolute velocity of the flange"),
+            ("a", "m/s2", "absolute acceleration of the flange")),
+    flow=("f", "N", "cut force acting on the component at the flange (positive along +s)"))
+
+ROTATIONAL = Domain(
+    "rotational",
+    across=(("phi", "rad", "absolute rotation angle of the flange"),
+            ("w", "rad/s", "absolute angular velocity of the flange"),
+            ("a", "rad/s2", "absolute angular acceleration of the flange")),
+    flow=("tau", "N.m", "cut torque acting on the component at the flange"))
+
+
+def signal(unit: str) -> Domain:
+    return Domain(f"signal[{unit}]", across=(("", unit, "signal value"),), flow=None)
+
+
+@dataclass(frozen=True)
+class Port:
+    name: str
+    domain: Domain
+    description: str
+
+
+# How a port crosses the FMU boundary.
+MOTION_IN = "motion"  # across variables are inputs, the flow is an output (MSL "inverse")
+FORCE_IN = "force"    # the flow is an input, across variables are outputs (MSL "direct")
+FIXED = "fixed"       # grounded: across variables are zero, nothing crosses the boundary
+SIGNAL_IN = "input"
+SIGNAL_OUT = "output"
+CAUSALITIES = (MOTION_IN, FORCE_IN, FIXED, SIGNAL_IN, SIGNAL_OUT)
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A named causality assignment for every port of a component."""
+    name: str
+    description: str
+    ports: dict[str, str] = field(default_factory=dict)  # port name -> causality

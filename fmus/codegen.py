@@ -1,0 +1,129 @@
+"""C for one model: CasADi-generated functions plus the ``MF_MODEL`` table of model.h.
+
+The variable table fixes the value references: vr 0 is time, then parameters,
+states, state derivatives, inputs, computed variables (outputs, then event
+indicators) and modes, in that order. :mod:`fmus.model_description` reads the
+same table, so the C and the XML cannot disagree.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import casadi as ca
+
+from components.dae import FlatModel
+
+FUNCTION_ORDER = ("ode", "out", "zc", "jump", "check", "jac")
+
+
+@dataclass
+class ModelVariable:
+    """One row of the variable table: what the C runtime and the XML both need."""
+    vr: int
+    name: str
+    kind: str          # MF_TIME, MF_PARAMETER, MF_STATE, MF_DERIVATIVE, MF_INPUT, MF_COMPUTED, MF_DISCRETE
+    index: int
+    unit: str
+    description: str
+    start: float | None
+    is_integer: bool = False
+    causality: str = "local"
+    variability: str = "continuous"
+    initial: str | None = None
+    derivative_of: int | None = None   # vr of the state this variable is the derivative of
+    input_derivative: int | None = None  # for inputs: index (in u) of its derivative input
+    is_indicator: bool = False
+
+
+def variable_table(model: FlatModel) -> list[ModelVariable]:
+    """Every variable of the FMU, in value-reference order."""
+    rows: list[ModelVariable] = []
+
+    def add(**kw):
+        rows.append(ModelVariable(vr=len(rows), **kw))
+        return rows[-1]
+
+    add(name="time", kind="MF_TIME", index=0, unit="s", description="simulation time",
+        start=None, causality="independent")
+    for i, v in enumerate(model.parameters):
+        add(name=v.name, kind="MF_PARAMETER", index=i, unit=v.unit, description=v.description,
+            start=v.start, causality="parameter", variability="fixed", initial="exact")
+    state_rows = []
+    for i, (v, is_output) in enumerate(zip(model.states, model.state_outputs)):
+        state_rows.append(add(name=v.name, kind="MF_STATE", index=i, unit=v.unit,
+                              description=v.description, start=v.start,
+                              causality="output" if is_output else "local", initial="exact"))
+    for i, state in enumerate(state_rows):
+        add(name=f"der({state.name})", kind="MF_DERIVATIVE", index=i,
+            unit=_derivative_unit(state.unit), description=f"time derivative of {state.name}",
+            start=None, initial="calculated", derivative_of=state.vr)
+    for i, v in enumerate(model.inputs):
+        add(name=v.name, kind="MF_INPUT", index=i, unit=v.unit, description=v.description,
+            start=v.start, causality="input", input_derivative=v.derivative_input)
+    for i, v in enumerate(model.outputs):
+        add(name=v.name, kind="MF_COMPUTED", index=i, unit=v.unit, description=v.description,
+            start=None, causality="output", initial="calculated")
+    for i, v in enumerate(model.indicators):
+        add(name=v.name, kind="MF_COMPUTED", index=len(model.outputs) + i, unit="",
+            description=v.description, start=None, initial="calculated", is_indicator=True)
+    for i, v in enumerate(model.modes):
+        add(name=v.name, kind="MF_DISCRETE", index=i, unit="", description=v.description,
+            start=None, is_integer=True, causality="output", variability="discrete",
+            initial="calculated")
+    return rows
+
+
+def _derivative_unit(unit: str) -> str:
+    return {"m": "m/s", "m/s": "m/s2", "rad": "rad/s", "rad/s": "rad/s2", "": "1/s"}.get(unit, f"{unit}/s")
+
+
+def computed_outputs(model: FlatModel) -> ca.SX:
+    """The `out` function's result: outputs, then event indicators (exposed as locals)."""
+    return ca.vertcat(model.y, model.z)
+
+
+def _c_string(text: str) -> str:
+    return json.dumps(text)  # a JSON string literal is a valid C string literal for our text
+
+
+def _c_double(value: float) -> str:
+    return repr(float(value)) if value is not None else "0.0"
+
+
+def generate_c(model: FlatModel, model_name: str, token: str) -> str:
+    """The whole model.c: CasADi's functions and the MF_MODEL table."""
+    functions = model.functions()
+    functions["out"] = ca.Function("mf_out", model.args, [ca.densify(computed_outputs(model))],
+                                   ["t", "x", "q", "u", "p"], ["y"])
+    gen = ca.CodeGenerator("model.c", {"with_header": False, "with_export": False,
+                                        "casadi_real": "double", "casadi_int": "long long"})
+    for key in FUNCTION_ORDER:
+        gen.add(functions[key])
+    table = variable_table(model)
+    n_y = len(model.outputs) + len(model.indicators)
+    lines = [gen.dump(), '#include "model.h"', ""]
+    lines.append("static const mf_variable variables[] = {")
+    for row in table:
+        lines.append(f"    {{{_c_string(row.name)}, {row.kind}, {row.index}, {int(row.is_integer)}, "
+                     f"{_c_double(row.start)}}},")
+    lines.append("};")
+    derivs = [(-1 if v.derivative_input is None else v.derivative_input) for v in model.inputs]
+    lines.append(f"static const int input_derivative[] = {{{', '.join(map(str, derivs)) or '-1'}}};")
+    lines.append("static const mf_constraint constraints[] = {")
+    for c in model.constraints:
+        lines.append(f"    {{{_c_string(c.message)}, {int(c.strict)}}},")
+    if not model.constraints:
+        lines.append('    {"", 0},')
+    lines.append("};")
+    fn = ", ".join(f"{{mf_{k}, mf_{k}_work}}" for k in FUNCTION_ORDER)
+    lines.append(f"""
+const mf_model MF_MODEL = {{
+    {_c_string(model_name)}, {_c_string(token)},
+    {model.x.numel()}, {model.q.numel()}, {model.u.numel()}, {model.p.numel()}, {n_y},
+    {model.z.numel()}, {len(model.constraints)},
+    {len(table)}, variables, input_derivative, constraints,
+    {fn}
+}};
+""")
+    return "\n".join(lines)

@@ -1,0 +1,1411 @@
+/*
+ * The mechfmu runtime core; see runtime.h for the division of labour.
+ */
+#include "runtime.h"
+#include "solver.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_EVENT_ITERATIONS 100
+#define MAX_STEPS_PER_DO_STEP 10000000L
+#define DEFAULT_TOLERANCE 1e-8
+
+/* Phases as bits so that each function states where it is allowed with one mask. */
+enum {
+    PH_INSTANTIATED = 1 << 0,
+    PH_INIT = 1 << 1,
+    PH_EVENT = 1 << 2,
+    PH_CONT = 1 << 3,
+    PH_STEP = 1 << 4,
+    PH_TERMINATED = 1 << 5,
+    PH_ANY = 0x3f
+};
+
+enum { LOG_EVENTS = 1 << 0, LOG_WARNING = 1 << 1, LOG_ERROR = 1 << 2, LOG_SOLVER = 1 << 3 };
+
+const char *const mf_log_categories[MF_N_LOG_CATEGORIES] = {
+    "logEvents", "logStatusWarning", "logStatusError", "logSolver"};
+
+struct mf_instance {
+    const mf_model *m;
+    char *name;
+    mf_host host;
+    mf_interface iface;
+    int event_mode_used;
+    unsigned log_mask;
+
+    int phase;
+    /* an event iteration or the solver failed: the model state is not one the
+       simulation can go on from, so only inspection and recovery are allowed */
+    int failed;
+
+    double t;
+    double t_start;
+    double rtol;
+
+    double *x, *q, *p;
+    double *u;      /* inputs as the importer set them, valid at t_u */
+    double t_u;     /* base time of the Co-Simulation input extrapolation */
+    int inputs_changed;
+
+    /* cached model results at the current point, invalid after any change */
+    double *y, *xdot, *z;
+    int y_valid, xdot_valid, z_valid;
+
+    double *z_prev; /* indicators just after the last accepted point / event */
+
+    /* scratch */
+    double *ue, *x_new, *q_new, *x_tmp, *z_tmp, *z_hit, *g;
+    const double **arg;
+    double **res;
+    mf_int *iw;
+    double *w;
+
+    mf_dopri solver;
+};
+
+/* ------------------------------------------------------------------------ */
+/* logging                                                                   */
+
+static void emit(const mf_host *host, const char *name, mf_status status, const char *category,
+                 const char *fmt, va_list ap)
+{
+    char buf[1024];
+    if (!host || !host->callback || !host->dispatch) return;
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    host->dispatch(host->callback, host->environment, name ? name : "", status, category, buf);
+}
+
+#if defined(__GNUC__)
+#define PRINTF_LIKE(a, b) __attribute__((format(printf, a, b)))
+#else
+#define PRINTF_LIKE(a, b)
+#endif
+
+static void log_error(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
+static void log_warning(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
+static void log_info(const mf_instance *I, unsigned cat, const char *fmt, ...) PRINTF_LIKE(3, 4);
+
+/* errors are always reported, whatever the logging settings */
+static void log_error(const mf_instance *I, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    emit(&I->host, I->name, MF_ERROR, "logStatusError", fmt, ap);
+    va_end(ap);
+}
+
+static void log_warning(const mf_instance *I, const char *fmt, ...)
+{
+    va_list ap;
+    if (!(I->log_mask & LOG_WARNING)) return;
+    va_start(ap, fmt);
+    emit(&I->host, I->name, MF_WARNING, "logStatusWarning", fmt, ap);
+    va_end(ap);
+}
+
+static void log_info(const mf_instance *I, unsigned cat, const char *fmt, ...)
+{
+    va_list ap;
+    int i;
+    if (!(I->log_mask & cat)) return;
+    for (i = 0; i < MF_N_LOG_CATEGORIES; i++)
+        if (cat == (1u << i)) break;
+    va_start(ap, fmt);
+    emit(&I->host, I->name, MF_OK, mf_log_categories[i < MF_N_LOG_CATEGORIES ? i : 0], fmt, ap);
+    va_end(ap);
+}
+
+static const char *phase_name(int phase)
+{
+    switch (phase) {
+    case PH_INSTANTIATED: return "Instantiated state";
+    case PH_INIT: return "Initialization Mode";
+    case PH_EVENT: return "Event Mode";
+    case PH_CONT: return "Continuous-Time Mode";
+    case PH_STEP: return "Step Mode";
+    case PH_TERMINATED: return "Terminated state";
+    default: return "unknown state";
+    }
+}
+
+/* progress: the call advances the simulation, which a failed instance must not */
+static int allowed(const mf_instance *I, const char *fn, int mask, int progress)
+{
+    if (!(I->phase & mask)) {
+        log_error(I, "%s: not allowed in %s", fn, phase_name(I->phase));
+        return 0;
+    }
+    if (progress && I->failed) {
+        log_error(I, "%s: not allowed after an earlier failure of the simulation; call %s", fn,
+                  I->host.reset_hint ? I->host.reset_hint : "Reset");
+        return 0;
+    }
+    return 1;
+}
+
+static int array_ok(const mf_instance *I, const char *fn, const void *a, size_t n,
+                    const char *what)
+{
+    if (n > 0 && !a) {
+        log_error(I, "%s: argument '%s' is NULL", fn, what);
+        return 0;
+    }
+    return 1;
+}
+
+static int size_ok(const mf_instance *I, const char *fn, size_t got, int expected,
+                   const char *what)
+{
+    if (got != (size_t)expected) {
+        log_error(I, "%s: %s is %lu but this model has %d", fn, what, (unsigned long)got,
+                  expected);
+        return 0;
+    }
+    return 1;
+}
+
+/* name of the variable of a kind and index, for messages */
+static const char *name_of(const mf_instance *I, mf_kind kind, int index)
+{
+    int i;
+    for (i = 0; i < I->m->n_variables; i++)
+        if (I->m->variables[i].kind == kind && I->m->variables[i].index == index)
+            return I->m->variables[i].name;
+    return "?";
+}
+
+/* ------------------------------------------------------------------------ */
+/* model evaluation                                                          */
+
+static void invalidate(mf_instance *I) { I->y_valid = I->xdot_valid = I->z_valid = 0; }
+
+/* Inputs at time t. Co-Simulation extrapolates each input by its Taylor chain
+   (s -> v -> a) from the base time t_u; Model Exchange uses them as set. */
+static void inputs_at(const mf_instance *I, double t, double *ue)
+{
+    const mf_model *m = I->m;
+    double tau = t - I->t_u;
+    int i;
+    for (i = 0; i < m->n_u; i++) {
+        double val = I->u[i], term = 1.0;
+        int d = m->input_derivative ? m->input_derivative[i] : -1;
+        int order = 1;
+        if (I->iface == MF_CO_SIMULATION && tau != 0.0) {
+            /* a chain can visit each input at most once; longer means a cycle */
+            while (d >= 0 && d < m->n_u && order <= m->n_u) {
+                term *= tau / order;
+                val += I->u[d] * term;
+                d = m->input_derivative[d];
+                order++;
+            }
+        }
+        ue[i] = val;
+    }
+}
+
+static int call(mf_instance *I, const mf_function *f, double t, const double *x, const double *q,
+                const double *u, double *r0, double *r1)
+{
+    double tt = t;
+    if (!f->eval) return 0; /* only for functions without outputs (checked at create) */
+    I->arg[0] = &tt;
+    I->arg[1] = x;
+    I->arg[2] = q;
+    I->arg[3] = u;
+    I->arg[4] = I->p;
+    I->res[0] = r0;
+    I->res[1] = r1;
+    return f->eval(I->arg, I->res, I->iw, I->w, 0);
+}
+
+static int all_finite(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+static int update_xdot(mf_instance *I, const char *fn)
+{
+    if (I->xdot_valid) return 1;
+    inputs_at(I, I->t, I->ue);
+    if (call(I, &I->m->ode, I->t, I->x, I->q, I->ue, I->xdot, NULL)) {
+        log_error(I, "%s: evaluation of the state derivatives failed at t = %.17g", fn, I->t);
+        return 0;
+    }
+    I->xdot_valid = 1;
+    return 1;
+}
+
+static int update_y(mf_instance *I, const char *fn)
+{
+    if (I->y_valid) return 1;
+    inputs_at(I, I->t, I->ue);
+    if (call(I, &I->m->out, I->t, I->x, I->q, I->ue, I->y, NULL)) {
+        log_error(I, "%s: evaluation of the outputs failed at t = %.17g", fn, I->t);
+        return 0;
+    }
+    if (!all_finite(I->y, I->m->n_y)) {
+        int i;
+        for (i = 0; i < I->m->n_y && isfinite(I->y[i]); i++) {}
+        log_warning(I, "%s: output '%s' is not finite at t = %.17g", fn,
+                    name_of(I, MF_COMPUTED, i), I->t);
+    }
+    I->y_valid = 1;
+    return 1;
+}
+
+static int update_z(mf_instance *I, const char *fn)
+{
+    if (I->z_valid) return 1;
+    inputs_at(I, I->t, I->ue);
+    if (call(I, &I->m->zc, I->t, I->x, I->q, I->ue, I->z, NULL)) {
+        log_error(I, "%s: evaluation of the event indicators failed at t = %.17g", fn, I->t);
+        return 0;
+    }
+    I->z_valid = 1;
+    return 1;
+}
+
+static int crossed(double before, double after)
+{
+    return (before > 0.0 && after <= 0.0) || (before < 0.0 && after >= 0.0);
+}
+
+/* Applies `jump` until nothing changes, then takes the indicators at the new
+   state as the reference for crossing detection (they may jump at events). */
+static mf_status event_iteration(mf_instance *I, const char *fn, int *x_changed)
+{
+    const mf_model *m = I->m;
+    int it, i, changed_x = 0, changed_q = 0;
+
+    for (it = 0; it < MAX_EVENT_ITERATIONS; it++) {
+        int same = 1;
+        inputs_at(I, I->t, I->ue);
+        if (call(I, &m->jump, I->t, I->x, I->q, I->ue, I->x_new, I->q_new)) {
+            log_error(I, "%s: evaluation of the event function failed at t = %.17g", fn, I->t);
+            return MF_ERROR;
+        }
+        for (i = 0; i < m->n_x; i++) {
+            if (!isfinite(I->x_new[i])) {
+                log_error(I, "%s: the event at t = %.17g set state '%s' to a non-finite value",
+                          fn, I->t, name_of(I, MF_STATE, i));
+                return MF_ERROR;
+            }
+            if (I->x_new[i] != I->x[i]) { same = 0; changed_x = 1; }
+        }
+        for (i = 0; i < m->n_q; i++) {
+            if (!isfinite(I->q_new[i])) {
+                log_error(I, "%s: the event at t = %.17g set '%s' to a non-finite value", fn,
+                          I->t, name_of(I, MF_DISCRETE, i));
+                return MF_ERROR;
+            }
+            if (I->q_new[i] != I->q[i]) { same = 0; changed_q = 1; }
+        }
+        if (same) break;
+        if (m->n_x) memcpy(I->x, I->x_new, (size_t)m->n_x * sizeof(double));
+        if (m->n_q) memcpy(I->q, I->q_new, (size_t)m->n_q * sizeof(double));
+        invalidate(I);
+    }
+    if (it == MAX_EVENT_ITERATIONS) {
+        log_error(I, "%s: event iteration did not converge at t = %.17g (still changing after %d "
+                     "iterations)", fn, I->t, MAX_EVENT_ITERATIONS);
+        return MF_ERROR;
+    }
+    if (changed_x || changed_q) {
+        log_info(I, LOG_EVENTS, "%s: event at t = %.17g (%d iteration%s; %s%s%s changed)", fn,
+                 I->t, it, it == 1 ? "" : "s", changed_q ? "discrete states" : "",
+                 changed_q && changed_x ? " and " : "", changed_x ? "continuous states" : "");
+        for (i = 0; i < m->n_q && (I->log_mask & LOG_EVENTS); i++)
+            log_info(I, LOG_EVENTS, "%s:   %s = %.17g", fn, name_of(I, MF_DISCRETE, i), I->q[i]);
+    }
+    if (x_changed) *x_changed = changed_x;
+    if (!update_z(I, fn)) return MF_ERROR;
+    for (i = 0; i < m->n_z; i++) {
+        /* An indicator sitting exactly on zero after an event that changed
+           nothing has touched zero without going across (the model's mode
+           conditions are typically strict): keep its old sign, so that it still
+           triggers once it really goes across. After a real state change a
+           zero is a fresh start (e.g. a velocity reset to 0) and must not. */
+        if (I->z[i] == 0.0 && !changed_x && !changed_q) continue;
+        I->z_prev[i] = I->z[i];
+    }
+    return MF_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* life cycle                                                                */
+
+static void set_start_values(mf_instance *I)
+{
+    const mf_model *m = I->m;
+    int i;
+    for (i = 0; i < m->n_variables; i++) {
+        const mf_variable *v = &m->variables[i];
+        switch (v->kind) {
+        case MF_TIME: I->t = v->start; break;
+        case MF_PARAMETER: I->p[v->index] = v->start; break;
+        case MF_STATE: I->x[v->index] = v->start; break;
+        case MF_INPUT: I->u[v->index] = v->start; break;
+        case MF_DISCRETE: I->q[v->index] = v->start; break;
+        default: break;
+        }
+    }
+    I->t_start = I->t;
+    I->t_u = I->t;
+    I->rtol = DEFAULT_TOLERANCE;
+    I->inputs_changed = 0;
+    I->failed = 0;
+    I->phase = PH_INSTANTIATED;
+    if (m->n_z) memset(I->z_prev, 0, (size_t)m->n_z * sizeof(double));
+    invalidate(I);
+    mf_dopri_reset(&I->solver);
+}
+
+static int kind_size(const mf_model *m, mf_kind kind)
+{
+    switch (kind) {
+    case MF_TIME: return 1;
+    case MF_PARAMETER: return m->n_p;
+    case MF_STATE: case MF_DERIVATIVE: return m->n_x;
+    case MF_INPUT: return m->n_u;
+    case MF_COMPUTED: return m->n_y;
+    case MF_DISCRETE: return m->n_q;
+    default: return -1;
+    }
+}
+
+/* Catches generator bugs once, so that no later access can go out of bounds. */
+static const char *model_defect(const mf_model *m)
+{
+    int i;
+    const mf_function *fs[6];
+    int n_out[6];
+    if (m->n_x < 0 || m->n_q < 0 || m->n_u < 0 || m->n_p < 0 || m->n_y < 0 || m->n_z < 0 ||
+        m->n_c < 0)
+        return "negative size";
+    if (m->n_variables < 1 || !m->variables || m->variables[0].kind != MF_TIME)
+        return "the variable table must start with time (value reference 0)";
+    for (i = 0; i < m->n_variables; i++) {
+        const mf_variable *v = &m->variables[i];
+        int n = kind_size(m, v->kind);
+        if (!v->name || n < 0 || v->index < 0 || v->index >= n)
+            return "a variable's kind or index is out of range";
+    }
+    if (m->n_u > 0 && m->input_derivative)
+        for (i = 0; i < m->n_u; i++)
+            if (m->input_derivative[i] < -1 || m->input_derivative[i] >= m->n_u)
+                return "input_derivative out of range";
+    if (m->n_c > 0 && !m->constraints) return "constraints missing";
+    fs[0] = &m->ode; n_out[0] = m->n_x;
+    fs[1] = &m->out; n_out[1] = m->n_y;
+    fs[2] = &m->zc; n_out[2] = m->n_z;
+    fs[3] = &m->jump; n_out[3] = m->n_x + m->n_q;
+    fs[4] = &m->check; n_out[4] = m->n_c;
+    fs[5] = &m->jac; n_out[5] = m->n_x;
+    for (i = 0; i < 6; i++) {
+        if (n_out[i] > 0 && !fs[i]->eval) return "a model function with outputs is missing";
+        if (fs[i]->eval && !fs[i]->work) return "a model function has no work-size function";
+    }
+    return NULL;
+}
+
+static double *dvec(int n) { return (double *)calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
+
+mf_instance *mf_create(const mf_model *model, const char *fn, const char *instance_name,
+                       const char *token, mf_interface iface, int logging_on,
+                       int event_mode_used, const mf_host *host)
+{
+    mf_instance tmp, *I;
+    const char *defect;
+    const mf_function *fs[6];
+    mf_int sz_arg = 5, sz_res = 2, sz_iw = 0, sz_w = 0;
+    int i;
+
+    /* a stack stand-in, so that failures before allocation can be logged alike */
+    memset(&tmp, 0, sizeof tmp);
+    if (host) tmp.host = *host;
+    tmp.name = (char *)(instance_name ? instance_name : "");
+
+    if (!model) {
+        log_error(&tmp, "%s: no model", fn);
+        return NULL;
+    }
+    if (!token || strcmp(token, model->instantiation_token) != 0) {
+        log_error(&tmp, "%s: instantiationToken '%s' does not match this FMU's '%s' (the "
+                        "modelDescription.xml and the binary come from different builds)",
+                  fn, token ? token : "(null)", model->instantiation_token);
+        return NULL;
+    }
+    defect = model_defect(model);
+    if (defect) {
+        log_error(&tmp, "%s: the compiled model '%s' is inconsistent: %s", fn, model->model_name,
+                  defect);
+        return NULL;
+    }
+
+    I = (mf_instance *)calloc(1, sizeof *I);
+    if (!I) goto oom;
+    I->m = model;
+    if (host) I->host = *host;
+    I->iface = iface;
+    I->event_mode_used = event_mode_used;
+    I->log_mask = logging_on ? ~0u : 0u;
+    I->name = (char *)malloc(strlen(tmp.name) + 1);
+    if (!I->name) goto oom;
+    strcpy(I->name, tmp.name);
+
+    I->x = dvec(model->n_x);
+    I->q = dvec(model->n_q);
+    I->p = dvec(model->n_p);
+    I->u = dvec(model->n_u);
+    I->y = dvec(model->n_y);
+    I->xdot = dvec(model->n_x);
+    I->z = dvec(model->n_z);
+    I->z_prev = dvec(model->n_z);
+    I->ue = dvec(model->n_u);
+    I->x_new = dvec(model->n_x);
+    I->q_new = dvec(model->n_q);
+    I->x_tmp = dvec(model->n_x);
+    I->z_tmp = dvec(model->n_z);
+    I->z_hit = dvec(model->n_z);
+    I->g = dvec(model->n_c);
+    if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev || !I->ue ||
+        !I->x_new || !I->q_new || !I->x_tmp || !I->z_tmp || !I->z_hit || !I->g)
+        goto oom;
+
+    /* one set of work buffers, large enough for every model function */
+    fs[0] = &model->ode; fs[1] = &model->out; fs[2] = &model->zc;
+    fs[3] = &model->jump; fs[4] = &model->check; fs[5] = &model->jac;
+    for (i = 0; i < 6; i++) {
+        mf_int a = 0, r = 0, iw = 0, w = 0;
+        if (!fs[i]->eval) continue;
+        if (fs[i]->work(&a, &r, &iw, &w)) {
+            log_error(&tmp, "%s: the model's work-size query failed", fn);
+            mf_free(I);
+            return NULL;
+        }
+        if (a > sz_arg) sz_arg = a;
+        if (r > sz_res) sz_res = r;
+        if (iw > sz_iw) sz_iw = iw;
+        if (w > sz_w) sz_w = w;
+    }
+    I->arg = (const double **)calloc((size_t)sz_arg, sizeof(double *));
+    I->res = (double **)calloc((size_t)sz_res, sizeof(double *));
+    I->iw = (mf_int *)calloc((size_t)(sz_iw > 0 ? sz_iw : 1), sizeof(mf_int));
+    I->w = (double *)calloc((size_t)(sz_w > 0 ? sz_w : 1), sizeof(double));
+    if (!I->arg || !I->res || !I->iw || !I->w) goto oom;
+    if (mf_dopri_alloc(&I->solver, model->n_x)) goto oom;
+
+    set_start_values(I);
+    return I;
+
+oom:
+    log_error(&tmp, "%s: out of memory", fn);
+    mf_free(I);
+    return NULL;
+}
+
+void mf_free(mf_instance *I)
+{
+    if (!I) return;
+    mf_dopri_free(&I->solver);
+    free(I->name);
+    free(I->x); free(I->q); free(I->p); free(I->u); free(I->y); free(I->xdot); free(I->z);
+    free(I->z_prev); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
+    free(I->z_tmp); free(I->z_hit); free(I->g);
+    free((void *)I->arg); free(I->res); free(I->iw); free(I->w);
+    free(I);
+}
+
+mf_status mf_set_debug_logging(mf_instance *I, const char *fn, int logging_on,
+                               size_t n_categories, const char *const categories[])
+{
+    size_t k;
+    unsigned mask = 0;
+    if (!I) return MF_ERROR;
+    if (!array_ok(I, fn, categories, n_categories, "categories")) return MF_ERROR;
+    if (n_categories == 0) {
+        I->log_mask = logging_on ? ~0u : 0u;
+        return MF_OK;
+    }
+    for (k = 0; k < n_categories; k++) {
+        int i;
+        for (i = 0; i < MF_N_LOG_CATEGORIES; i++)
+            if (categories[k] && strcmp(categories[k], mf_log_categories[i]) == 0) break;
+        if (i == MF_N_LOG_CATEGORIES) {
+            log_error(I, "%s: unknown log category '%s' (known: logEvents, logStatusWarning, "
+                         "logStatusError, logSolver)", fn, categories[k] ? categories[k] : "(null)");
+            return MF_ERROR;
+        }
+        mask |= 1u << i;
+    }
+    if (logging_on) I->log_mask |= mask;
+    else I->log_mask &= ~mask;
+    return MF_OK;
+}
+
+mf_status mf_unsupported(mf_instance *I, const char *fn, const char *what)
+{
+    if (!I) return MF_ERROR;
+    log_error(I, "%s: not supported by this FMU (%s)", fn, what);
+    return MF_ERROR;
+}
+
+mf_status mf_enter_initialization_mode(mf_instance *I, const char *fn, int tolerance_defined,
+                                       double tolerance, double start_time)
+{
+    if (!I) return MF_ERROR;
+    if (!allowed(I, fn, PH_INSTANTIATED, 0)) return MF_ERROR;
+    if (tolerance_defined && !(tolerance > 0.0 && isfinite(tolerance))) {
+        log_error(I, "%s: tolerance must be a finite number > 0, got %g", fn, tolerance);
+        return MF_ERROR;
+    }
+    if (!isfinite(start_time)) {
+        log_error(I, "%s: startTime must be finite, got %g", fn, start_time);
+        return MF_ERROR;
+    }
+    I->rtol = tolerance_defined ? tolerance : DEFAULT_TOLERANCE;
+    I->t = I->t_start = I->t_u = start_time;
+    invalidate(I);
+    I->phase = PH_INIT;
+    log_info(I, LOG_EVENTS, "%s: Initialization Mode at t = %.17g, relative tolerance %g", fn,
+             I->t, I->rtol);
+    return MF_OK;
+}
+
+static int constraints_hold(mf_instance *I, const char *fn)
+{
+    const mf_model *m = I->m;
+    int i, ok = 1;
+    if (m->n_c == 0) return 1;
+    if (call(I, &m->check, I->t, I->x, I->q, I->u, I->g, NULL)) {
+        log_error(I, "%s: evaluation of the parameter constraints failed", fn);
+        return 0;
+    }
+    for (i = 0; i < m->n_c; i++) {
+        double g = I->g[i];
+        int holds = m->constraints[i].strict ? (g > 0.0) : (g >= 0.0);
+        if (!holds) {
+            log_error(I, "%s: %s", fn,
+                      m->constraints[i].message ? m->constraints[i].message : "constraint violated");
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+mf_status mf_exit_initialization_mode(mf_instance *I, const char *fn)
+{
+    mf_status st;
+    if (!I) return MF_ERROR;
+    if (!allowed(I, fn, PH_INIT, 1)) return MF_ERROR;
+    if (!constraints_hold(I, fn)) return MF_ERROR;
+    st = event_iteration(I, fn, NULL);
+    if (st != MF_OK) {
+        I->failed = 1;
+        return st;
+    }
+    I->inputs_changed = 0;
+    mf_dopri_reset(&I->solver);
+    if (I->iface == MF_CO_SIMULATION && !I->event_mode_used) I->phase = PH_STEP;
+    else I->phase = PH_EVENT;
+    log_info(I, LOG_EVENTS, "%s: initialised at t = %.17g; now in %s", fn, I->t,
+             phase_name(I->phase));
+    return MF_OK;
+}
+
+mf_status mf_terminate(mf_instance *I, const char *fn)
+{
+    if (!I) return MF_ERROR;
+    if (!allowed(I, fn, PH_INIT | PH_EVENT | PH_CONT | PH_STEP, 0)) return MF_ERROR;
+    I->phase = PH_TERMINATED;
+    log_info(I, LOG_EVENTS, "%s: terminated at t = %.17g", fn, I->t);
+    return MF_OK;
+}
+
+mf_status mf_reset(mf_instance *I, const char *fn)
+{
+    if (!I) return MF_ERROR;
+    (void)fn;
+    set_start_values(I);
+    return MF_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* variables                                                                 */
+
+static const mf_variable *lookup(const mf_instance *I, const char *fn, uint32_t vr, int want_int)
+{
+    const mf_variable *v;
+    if (vr >= (uint32_t)I->m->n_variables) {
+        log_error(I, "%s: unknown value reference %lu (this model has 0 to %d)", fn,
+                  (unsigned long)vr, I->m->n_variables - 1);
+        return NULL;
+    }
+    v = &I->m->variables[vr];
+    if ((v->is_integer != 0) != (want_int != 0)) {
+        const char *has = v->is_integer ? I->host.int_type : I->host.float_type;
+        const char *asked = want_int ? I->host.int_type : I->host.float_type;
+        log_error(I, "%s: variable '%s' (value reference %lu) has type %s, not %s", fn, v->name,
+                  (unsigned long)vr, has ? has : "?", asked ? asked : "?");
+        return NULL;
+    }
+    return v;
+}
+
+static int get_value(mf_instance *I, const char *fn, const mf_variable *v, double *out)
+{
+    switch (v->kind) {
+    case MF_TIME: *out = I->t; return 1;
+    case MF_PARAMETER: *out = I->p[v->index]; return 1;
+    case MF_STATE: *out = I->x[v->index]; return 1;
+    case MF_INPUT: *out = I->u[v->index]; return 1;
+    case MF_DISCRETE: *out = I->q[v->index]; return 1;
+    case MF_DERIVATIVE:
+        if (!update_xdot(I, fn)) return 0;
+        *out = I->xdot[v->index];
+        return 1;
+    case MF_COMPUTED:
+        if (!update_y(I, fn)) return 0;
+        *out = I->y[v->index];
+        return 1;
+    }
+    return 0;
+}
+
+static int settable(mf_instance *I, const char *fn, const mf_variable *v, uint32_t vr, double val)
+{
+    int mask;
+    const char *when;
+    switch (v->kind) {
+    case MF_PARAMETER:
+    case MF_STATE:
+    case MF_DISCRETE:
+        mask = PH_INSTANTIATED | PH_INIT;
+        when = "only before initialisation ends (Instantiated state or Initialization Mode)";
+        break;
+    case MF_INPUT:
+        mask = PH_ANY & ~PH_TERMINATED;
+        when = "at any time before termination";
+        break;
+    default:
+        log_error(I, "%s: variable '%s' (value reference %lu) is computed by the model and "
+                     "cannot be set", fn, v->name, (unsigned long)vr);
+        return 0;
+    }
+    if (!(I->phase & mask)) {
+        log_error(I, "%s: variable '%s' can be set %s, not in %s", fn, v->name, when,
+                  phase_name(I->phase));
+        return 0;
+    }
+    if (!isfinite(val)) {
+        log_error(I, "%s: value %g for variable '%s' is not finite; not set", fn, val, v->name);
+        return 0;
+    }
+    return 1;
+}
+
+static void store_value(mf_instance *I, const mf_variable *v, double val)
+{
+    switch (v->kind) {
+    case MF_PARAMETER: I->p[v->index] = val; break;
+    case MF_STATE:
+        I->x[v->index] = val;
+        mf_dopri_restart(&I->solver);
+        break;
+    case MF_DISCRETE: I->q[v->index] = val; break;
+    case MF_INPUT:
+        if (I->iface == MF_CO_SIMULATION && I->t != I->t_u) {
+            /* move the extrapolation base to now, so that inputs not set again
+               continue from where their extrapolation has brought them */
+            inputs_at(I, I->t, I->ue);
+            memcpy(I->u, I->ue, (size_t)I->m->n_u * sizeof(double));
+            I->t_u = I->t;
+        }
+        if (I->u[v->index] != val) I->inputs_changed = 1;
+        I->u[v->index] = val;
+        break;
+    default: break;
+    }
+    invalidate(I);
+}
+
+static int vr_args_ok(const mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                      const void *values, size_t n_values)
+{
+    if (!array_ok(I, fn, vr, n_vr, "valueReferences")) return 0;
+    if (!array_ok(I, fn, values, n_values, "values")) return 0;
+    if (n_vr != n_values) {
+        log_error(I, "%s: nValueReferences (%lu) and nValues (%lu) differ; every variable "
+                     "here is a scalar", fn, (unsigned long)n_vr, (unsigned long)n_values);
+        return 0;
+    }
+    return 1;
+}
+
+mf_status mf_get_float(mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                       double values[], size_t n_values)
+{
+    size_t k;
+    if (!I) return MF_ERROR;
+    if (!vr_args_ok(I, fn, vr, n_vr, values, n_values)) return MF_ERROR;
+    for (k = 0; k < n_vr; k++) {
+        const mf_variable *v = lookup(I, fn, vr[k], 0);
+        if (!v || !get_value(I, fn, v, &values[k])) return MF_ERROR;
+    }
+    return MF_OK;
+}
+
+mf_status mf_get_int(mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                     int32_t values[], size_t n_values)
+{
+    size_t k;
+    if (!I) return MF_ERROR;
+    if (!vr_args_ok(I, fn, vr, n_vr, values, n_values)) return MF_ERROR;
+    for (k = 0; k < n_vr; k++) {
+        double d;
+        const mf_variable *v = lookup(I, fn, vr[k], 1);
+        if (!v || !get_value(I, fn, v, &d)) return MF_ERROR;
+        d = floor(d + 0.5);
+        if (!(d >= -2147483648.0 && d <= 2147483647.0)) {
+            log_error(I, "%s: value of '%s' does not fit an %s", fn, v->name, I->host.int_type);
+            return MF_ERROR;
+        }
+        values[k] = (int32_t)d;
+    }
+    return MF_OK;
+}
+
+/* all values are checked before any is stored, so a rejected call changes nothing */
+static mf_status set_doubles(mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                             const double *dv, const int32_t *iv, size_t n_values)
+{
+    size_t k;
+    int want_int = iv != NULL;
+    if (!vr_args_ok(I, fn, vr, n_vr, want_int ? (const void *)iv : (const void *)dv, n_values))
+        return MF_ERROR;
+    for (k = 0; k < n_vr; k++) {
+        const mf_variable *v = lookup(I, fn, vr[k], want_int);
+        if (!v || !settable(I, fn, v, vr[k], want_int ? (double)iv[k] : dv[k])) return MF_ERROR;
+    }
+    for (k = 0; k < n_vr; k++)
+        store_value(I, &I->m->variables[vr[k]], want_int ? (double)iv[k] : dv[k]);
+    return MF_OK;
+}
+
+mf_status mf_set_float(mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                       const double values[], size_t n_values)
+{
+    if (!I) return MF_ERROR;
+    return set_doubles(I, fn, vr, n_vr, values, NULL, n_values);
+}
+
+mf_status mf_set_int(mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                     const int32_t values[], size_t n_values)
+{
+    static const double dummy = 0.0;
+    if (!I) return MF_ERROR;
+    if (!values && n_values == 0) values = (const int32_t *)(const void *)&dummy;
+    return set_doubles(I, fn, vr, n_vr, NULL, values, n_values);
+}
+
+/* ------------------------------------------------------------------------ */
+/* events and Model Exchange                                                 */
+
+mf_status mf_enter_event_mode(mf_instance *I, const char *fn)
+{
+    int mask;
+    if (!I) return MF_ERROR;
+    mask = I->iface == MF_MODEL_EXCHANGE ? PH_CONT : (I->event_mode_used ? PH_STEP : 0);
+    if (!mask) {
+        log_error(I, "%s: not allowed; this Co-Simulation instance was created with "
+                     "eventModeUsed = false and handles its events internally", fn);
+        return MF_ERROR;
+    }
+    if (!allowed(I, fn, mask, 1)) return MF_ERROR;
+    I->phase = PH_EVENT;
+    log_info(I, LOG_EVENTS, "%s: Event Mode at t = %.17g", fn, I->t);
+    return MF_OK;
+}
+
+mf_status mf_update_discrete_states(mf_instance *I, const char *fn, int *states_changed)
+{
+    mf_status st;
+    int changed = 0;
+    if (!I) return MF_ERROR;
+    if (!allowed(I, fn, PH_EVENT, 1)) return MF_ERROR;
+    st = event_iteration(I, fn, &changed);
+    if (st != MF_OK) {
+        I->failed = 1;
+        return st;
+    }
+    mf_dopri_restart(&I->solver);
+    if (states_changed) *states_changed = changed;
+    return MF_OK;
+}
+
+mf_status mf_enter_continuous_time_mode(mf_instance *I, const char *fn)
+{
+    if (!I) return MF_ERROR;
+    if (I->iface != MF_MODEL_EXCHANGE) {
+        log_error(I, "%s: only for Model Exchange; this is a Co-Simulation instance", fn);
+        return MF_ERROR;
+    }
+    if (!allowed(I, fn, PH_EVENT, 1)) return MF_ERROR;
+    I->phase = PH_CONT;
+    log_info(I, LOG_EVENTS, "%s: Continuous-Time Mode at t = %.17g", fn, I->t);
+    return MF_OK;
+}
+
+static int me_only(const mf_instance *I, const char *fn)
+{
+    if (I->iface != MF_MODEL_EXCHANGE) {
+        log_error(I, "%s: only for Model Exchange; this is a Co-Simulation instance", fn);
+        return 0;
+    }
+    return 1;
+}
+
+mf_status mf_completed_integrator_step(mf_instance *I, const char *fn)
+{
+    if (!I) return MF_ERROR;
+    if (!me_only(I, fn) || !allowed(I, fn, PH_CONT, 1)) return MF_ERROR;
+    return MF_OK;
+}
+
+mf_status mf_set_time(mf_instance *I, const char *fn, double time)
+{
+    if (!I) return MF_ERROR;
+    if (!me_only(I, fn) || !allowed(I, fn, PH_CONT | PH_EVENT, 1)) return MF_ERROR;
+    if (!isfinite(time)) {
+        log_error(I, "%s: time must be finite, got %g", fn, time);
+        return MF_ERROR;
+    }
+    I->t = time;
+    I->t_u = time;
+    invalidate(I);
+    return MF_OK;
+}
+
+mf_status mf_set_continuous_states(mf_instance *I, const char *fn, const double x[], size_t n)
+{
+    int i;
+    if (!I) return MF_ERROR;
+    if (!me_only(I, fn) || !allowed(I, fn, PH_CONT | PH_EVENT, 1)) return MF_ERROR;
+    if (!size_ok(I, fn, n, I->m->n_x, "nContinuousStates") ||
+        !array_ok(I, fn, x, n, "continuousStates"))
+        return MF_ERROR;
+    for (i = 0; i < I->m->n_x; i++)
+        if (!isfinite(x[i])) {
+            log_error(I, "%s: value %g for state '%s' is not finite; no state set", fn, x[i],
+                      name_of(I, MF_STATE, i));
+            return MF_ERROR;
+        }
+    if (n) memcpy(I->x, x, n * sizeof(double));
+    invalidate(I);
+    return MF_OK;
+}
+
+mf_status mf_get_continuous_states(mf_instance *I, const char *fn, double x[], size_t n)
+{
+    if (!I) return MF_ERROR;
+    if (!size_ok(I, fn, n, I->m->n_x, "nContinuousStates") ||
+        !array_ok(I, fn, x, n, "continuousStates"))
+        return MF_ERROR;
+    if (n) memcpy(x, I->x, n * sizeof(double));
+    return MF_OK;
+}
+
+mf_status mf_get_derivatives(mf_instance *I, const char *fn, double dx[], size_t n)
+{
+    if (!I) return MF_ERROR;
+    if (!size_ok(I, fn, n, I->m->n_x, "nContinuousStates") ||
+        !array_ok(I, fn, dx, n, "derivatives"))
+        return MF_ERROR;
+    if (!update_xdot(I, fn)) return MF_ERROR;
+    if (!all_finite(I->xdot, I->m->n_x)) {
+        int i;
+        for (i = 0; i < I->m->n_x && isfinite(I->xdot[i]); i++) {}
+        log_error(I, "%s: derivative of state '%s' is not finite at t = %.17g", fn,
+                  name_of(I, MF_STATE, i), I->t);
+        return MF_ERROR;
+    }
+    if (n) memcpy(dx, I->xdot, n * sizeof(double));
+    return MF_OK;
+}
+
+mf_status mf_get_event_indicators(mf_instance *I, const char *fn, double z[], size_t n)
+{
+    if (!I) return MF_ERROR;
+    if (!size_ok(I, fn, n, I->m->n_z, "nEventIndicators") ||
+        !array_ok(I, fn, z, n, "eventIndicators"))
+        return MF_ERROR;
+    if (!update_z(I, fn)) return MF_ERROR;
+    if (n) memcpy(z, I->z, n * sizeof(double));
+    return MF_OK;
+}
+
+mf_status mf_get_nominals(mf_instance *I, const char *fn, double nominals[], size_t n)
+{
+    size_t i;
+    if (!I) return MF_ERROR;
+    if (!size_ok(I, fn, n, I->m->n_x, "nContinuousStates") ||
+        !array_ok(I, fn, nominals, n, "nominals"))
+        return MF_ERROR;
+    for (i = 0; i < n; i++) nominals[i] = 1.0;
+    return MF_OK;
+}
+
+mf_status mf_get_number_of_states(mf_instance *I, const char *fn, size_t *n)
+{
+    if (!I) return MF_ERROR;
+    if (!array_ok(I, fn, n, 1, "nContinuousStates")) return MF_ERROR;
+    *n = (size_t)I->m->n_x;
+    return MF_OK;
+}
+
+mf_status mf_get_number_of_event_indicators(mf_instance *I, const char *fn, size_t *n)
+{
+    if (!I) return MF_ERROR;
+    if (!array_ok(I, fn, n, 1, "nEventIndicators")) return MF_ERROR;
+    *n = (size_t)I->m->n_z;
+    return MF_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Co-Simulation                                                             */
+
+mf_status mf_enter_step_mode(mf_instance *I, const char *fn)
+{
+    if (!I) return MF_ERROR;
+    if (I->iface != MF_CO_SIMULATION) {
+        log_error(I, "%s: only for Co-Simulation; this is a Model Exchange instance", fn);
+        return MF_ERROR;
+    }
+    if (!allowed(I, fn, PH_EVENT, 1)) return MF_ERROR;
+    I->phase = PH_STEP;
+    return MF_OK;
+}
+
+static int rhs(void *ctx, double t, const double *x, double *xdot)
+{
+    mf_instance *I = (mf_instance *)ctx;
+    inputs_at(I, t, I->ue);
+    return call(I, &I->m->ode, t, x, I->q, I->ue, xdot, NULL);
+}
+
+/* indicators at time t inside the last accepted step */
+static int z_inside(mf_instance *I, double t, double *z)
+{
+    mf_dopri_dense(&I->solver, t, I->x_tmp);
+    inputs_at(I, t, I->ue);
+    return call(I, &I->m->zc, t, I->x_tmp, I->q, I->ue, z, NULL);
+}
+
+/* Illinois (Anderson–Björck-like) bracketing on indicator i over [ta, tb],
+   whose sign at ta is that of fa != 0. Returns the right end of the final
+   bracket, the side on which the indicator has crossed. */
+static int locate_one(mf_instance *I, int i, double ta, double fa, double tb, double fb,
+                      double *t_root)
+{
+    /* prefer a right end strictly across zero, so that the model sees the new
+       side; accept exactly zero only if that is all the step end offers */
+    const int strict = fb != 0.0;
+    const int positive = fa > 0.0; /* the side the indicator starts on */
+    const double tol = 1e-13 * fmax(1.0, fabs(tb));
+    int side = 0, it, force_bisect = 0;
+    double width_ref = tb - ta;
+
+    for (it = 0; it < 500 && tb - ta > tol; it++) {
+        double tc, fc;
+        int across;
+        if (!force_bisect && fb != fa) tc = tb - fb * (tb - ta) / (fb - fa);
+        else tc = 0.5 * (ta + tb);
+        if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
+        force_bisect = 0;
+        if (z_inside(I, tc, I->z_tmp)) return 0;
+        fc = I->z_tmp[i];
+        if (!isfinite(fc)) return 0;
+        across = positive ? (strict ? fc < 0.0 : fc <= 0.0) : (strict ? fc > 0.0 : fc >= 0.0);
+        if (across) {
+            tb = tc;
+            fb = fc;
+            if (side == 1) fa *= 0.5;
+            side = 1;
+        } else {
+            ta = tc;
+            fa = fc;
+            if (side == -1) fb *= 0.5;
+            side = -1;
+        }
+        /* a secant creeping in from one side: halve the bracket instead */
+        if (it % 3 == 2) {
+            if (tb - ta > 0.5 * width_ref) force_bisect = 1;
+            width_ref = tb - ta;
+        }
+    }
+    *t_root = tb;
+    return 1;
+}
+
+/* The earliest crossing in the last accepted step [ta, tb]; z_b: indicators at tb. */
+static int locate_earliest(mf_instance *I, double ta, double tb, const double *z_b,
+                           double *t_event)
+{
+    const int nz = I->m->n_z;
+    double t_hit = tb;
+    int i;
+    memcpy(I->z_hit, z_b, (size_t)nz * sizeof(double));
+    for (i = 0; i < nz; i++) {
+        double t_root;
+        if (!crossed(I->z_prev[i], I->z_hit[i])) continue;
+        if (!locate_one(I, i, ta, I->z_prev[i], t_hit, I->z_hit[i], &t_root)) return 0;
+        if (t_root < t_hit) {
+            t_hit = t_root;
+            if (z_inside(I, t_hit, I->z_hit)) return 0;
+        }
+    }
+    *t_event = t_hit;
+    return 1;
+}
+
+mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time)
+{
+    const mf_model *m;
+    double t_end;
+    long steps = 0, events = 0, rhs0, rej0;
+    int i;
+
+    if (!I) return MF_ERROR;
+    m = I->m;
+    if (last_time) *last_time = I->t;
+    if (I->iface != MF_CO_SIMULATION) {
+        log_error(I, "%s: only for Co-Simulation; this is a Model Exchange instance", fn);
+        return MF_ERROR;
+    }
+    if (!allowed(I, fn, PH_STEP, 1)) return MF_ERROR;
+    if (!isfinite(t) || fabs(t - I->t) > 1e-10 * fmax(1.0, fabs(I->t))) {
+        log_error(I, "%s: currentCommunicationPoint %.17g differs from the FMU's time %.17g", fn,
+                  t, I->t);
+        return MF_ERROR;
+    }
+    if (!(h > 0.0) || !isfinite(h)) {
+        log_error(I, "%s: communicationStepSize must be finite and > 0, got %g", fn, h);
+        return MF_ERROR;
+    }
+    t_end = I->t + h;
+    rhs0 = I->solver.n_rhs;
+    rej0 = I->solver.n_rejected;
+
+    if (I->inputs_changed) {
+        /* the importer may have moved an input discontinuously across an
+           indicator's zero: that is an event at the communication point */
+        int cross = 0;
+        I->inputs_changed = 0;
+        mf_dopri_restart(&I->solver);
+        if (!update_z(I, fn)) goto fail;
+        for (i = 0; i < m->n_z; i++)
+            if (crossed(I->z_prev[i], I->z[i])) cross = 1;
+        if (cross) {
+            if (event_iteration(I, fn, NULL) != MF_OK) goto fail;
+        } else if (m->n_z) {
+            memcpy(I->z_prev, I->z, (size_t)m->n_z * sizeof(double));
+        }
+    }
+
+    while (I->t < t_end) {
+        double t_old = I->t, t_event;
+        int any = 0;
+        mf_dopri_result r;
+
+        if (++steps > MAX_STEPS_PER_DO_STEP) {
+            log_error(I, "%s: more than %ld internal steps between t = %.17g and %.17g; the "
+                         "model may be chattering between modes", fn, MAX_STEPS_PER_DO_STEP, t,
+                      t_end);
+            goto fail;
+        }
+        r = mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h);
+        if (r != MF_DOPRI_OK) {
+            if (r == MF_DOPRI_RHS_FAILED)
+                log_error(I, "%s: the model's state derivatives are not finite (or could not "
+                             "be evaluated) at or just after t = %.17g; check parameters and "
+                             "inputs", fn, I->t);
+            else
+                log_error(I, "%s: step size fell below %g at t = %.17g (tolerance %g); the "
+                             "model is too stiff or discontinuous here", fn,
+                          1e-14 * fmax(1.0, fabs(I->t)), I->t, I->rtol);
+            goto fail;
+        }
+        invalidate(I);
+        if (m->n_z == 0) continue;
+        if (!update_z(I, fn)) goto fail;
+        for (i = 0; i < m->n_z; i++)
+            if (crossed(I->z_prev[i], I->z[i])) any = 1;
+        if (!any) {
+            memcpy(I->z_prev, I->z, (size_t)m->n_z * sizeof(double));
+            continue;
+        }
+        if (!locate_earliest(I, t_old, I->t, I->z, &t_event)) {
+            log_error(I, "%s: the event indicators could not be evaluated while locating an "
+                         "event between t = %.17g and %.17g", fn, t_old, I->t);
+            goto fail;
+        }
+        mf_dopri_dense(&I->solver, t_event, I->x);
+        I->t = t_event;
+        invalidate(I);
+        if (event_iteration(I, fn, NULL) != MF_OK) goto fail;
+        mf_dopri_restart(&I->solver);
+        events++;
+        if (I->host.event_dispatch && I->host.event_callback)
+            I->host.event_dispatch(I->host.event_callback, I->host.environment, I->t);
+    }
+    I->t = t_end;
+    invalidate(I);
+    log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %ld steps, %ld rejected, %ld derivative "
+                            "evaluations, %ld events", fn, t, t_end, steps,
+             I->solver.n_rejected - rej0, I->solver.n_rhs - rhs0, events);
+    if (last_time) *last_time = t_end;
+    return MF_OK;
+
+fail:
+    I->failed = 1;
+    invalidate(I);
+    if (last_time) *last_time = I->t;
+    return MF_ERROR;
+}
+
+/* ------------------------------------------------------------------------ */
+/* FMU state                                                                 */
+
+/* A snapshot is everything dynamic, as one flat array of doubles. */
+#define SNAP_MAGIC 0x4d465331u /* "MFS1" */
+enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED, S_HEADER };
+
+typedef struct {
+    unsigned magic;
+    const mf_model *model;
+    size_t n;
+    double d[1];
+} snapshot;
+
+static size_t snap_len(const mf_model *m)
+{
+    return (size_t)S_HEADER + (size_t)m->n_x + (size_t)m->n_q + (size_t)m->n_u + (size_t)m->n_p +
+           (size_t)m->n_z;
+}
+
+static snapshot *snap_alloc(const mf_model *m)
+{
+    size_t n = snap_len(m);
+    snapshot *s = (snapshot *)calloc(1, sizeof(snapshot) + n * sizeof(double));
+    if (!s) return NULL;
+    s->magic = SNAP_MAGIC;
+    s->model = m;
+    s->n = n;
+    return s;
+}
+
+static const snapshot *snap_check(const mf_instance *I, const char *fn, const void *state)
+{
+    const snapshot *s = (const snapshot *)state;
+    if (!s) {
+        log_error(I, "%s: FMUState is NULL", fn);
+        return NULL;
+    }
+    if (s->magic != SNAP_MAGIC || s->model != I->m || s->n != snap_len(I->m)) {
+        log_error(I, "%s: FMUState was not created by an instance of this model", fn);
+        return NULL;
+    }
+    return s;
+}
+
+static void copy_block(double *dst, const double *src, int n)
+{
+    if (n > 0) memcpy(dst, src, (size_t)n * sizeof(double));
+}
+
+mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
+{
+    const mf_model *m;
+    snapshot *s;
+    double *d;
+    if (!I) return MF_ERROR;
+    m = I->m;
+    if (!array_ok(I, fn, state, 1, "FMUState")) return MF_ERROR;
+    if (*state) {
+        /* overwrite in place, as the standard allows reuse of a previous state */
+        if (!snap_check(I, fn, *state)) return MF_ERROR;
+        s = (snapshot *)*state;
+    } else {
+        s = snap_alloc(m);
+        if (!s) {
+            log_error(I, "%s: out of memory", fn);
+            return MF_ERROR;
+        }
+    }
+    d = s->d;
+    d[S_T] = I->t;
+    d[S_TSTART] = I->t_start;
+    d[S_RTOL] = I->rtol;
+    d[S_TU] = I->t_u;
+    d[S_HGUESS] = I->solver.h_guess;
+    d[S_FACOLD] = I->solver.facold;
+    d[S_PHASE] = I->phase;
+    d[S_INCHANGED] = I->inputs_changed;
+    d[S_FAILED] = I->failed;
+    d += S_HEADER;
+    copy_block(d, I->x, m->n_x); d += m->n_x;
+    copy_block(d, I->q, m->n_q); d += m->n_q;
+    copy_block(d, I->u, m->n_u); d += m->n_u;
+    copy_block(d, I->p, m->n_p); d += m->n_p;
+    copy_block(d, I->z_prev, m->n_z);
+    *state = s;
+    return MF_OK;
+}
+
+mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
+{
+    const mf_model *m;
+    const snapshot *s;
+    const double *d;
+    if (!I) return MF_ERROR;
+    m = I->m;
+    s = snap_check(I, fn, state);
+    if (!s) return MF_ERROR;
+    d = s->d;
+    I->t = d[S_T];
+    I->t_start = d[S_TSTART];
+    I->rtol = d[S_RTOL];
+    I->t_u = d[S_TU];
+    I->phase = (int)d[S_PHASE];
+    I->inputs_changed = (int)d[S_INCHANGED];
+    I->failed = (int)d[S_FAILED];
+    d += S_HEADER;
+    copy_block(I->x, d, m->n_x); d += m->n_x;
+    copy_block(I->q, d, m->n_q); d += m->n_q;
+    copy_block(I->u, d, m->n_u); d += m->n_u;
+    copy_block(I->p, d, m->n_p); d += m->n_p;
+    copy_block(I->z_prev, d, m->n_z);
+    mf_dopri_reset(&I->solver);
+    /* the controller history too, so that a restored run repeats bit for bit */
+    I->solver.h_guess = s->d[S_HGUESS];
+    I->solver.facold = s->d[S_FACOLD];
+    invalidate(I);
+    return MF_OK;
+}
+
+mf_status mf_free_state(mf_instance *I, const char *fn, void **state)
+{
+    if (!I) return MF_ERROR;
+    if (!state || !*state) return MF_OK;
+    if (!snap_check(I, fn, *state)) return MF_ERROR;
+    ((snapshot *)*state)->magic = 0;
+    free(*state);
+    *state = NULL;
+    return MF_OK;
+}
+
+/* serialized: "MFS1" | u64 total size | u64 token length | token | u64 n | n doubles */
+static size_t serial_size(const mf_instance *I)
+{
+    return 4 + 8 + 8 + strlen(I->m->instantiation_token) + 8 + snap_len(I->m) * sizeof(double);
+}
+
+static void put_u64(unsigned char **p, uint64_t v)
+{
+    memcpy(*p, &v, 8);
+    *p += 8;
+}
+
+static uint64_t get_u64(const unsigned char **p)
+{
+    uint64_t v;
+    memcpy(&v, *p, 8);
+    *p += 8;
+    return v;
+}
+
+mf_status mf_serialized_state_size(mf_instance *I, const char *fn, const void *state,
+                                   size_t *size)
+{
+    if (!I) return MF_ERROR;
+    if (!snap_check(I, fn, state) || !array_ok(I, fn, size, 1, "size")) return MF_ERROR;
+    *size = serial_size(I);
+    return MF_OK;
+}
+
+mf_status mf_serialize_state(mf_instance *I, const char *fn, const void *state,
+                             unsigned char bytes[], size_t size)
+{
+    const snapshot *s;
+    size_t tl;
+    unsigned char *p = bytes;
+    if (!I) return MF_ERROR;
+    s = snap_check(I, fn, state);
+    if (!s) return MF_ERROR;
+    if (size != serial_size(I)) {
+        log_error(I, "%s: size %lu differs from the serialized size %lu", fn,
+                  (unsigned long)size, (unsigned long)serial_size(I));
+        return MF_ERROR;
+    }
+    if (!array_ok(I, fn, bytes, size, "serializedState")) return MF_ERROR;
+    tl = strlen(I->m->instantiation_token);
+    memcpy(p, "MFS1", 4);
+    p += 4;
+    put_u64(&p, (uint64_t)size);
+    put_u64(&p, (uint64_t)tl);
+    memcpy(p, I->m->instantiation_token, tl);
+    p += tl;
+    put_u64(&p, (uint64_t)s->n);
+    memcpy(p, s->d, s->n * sizeof(double));
+    return MF_OK;
+}
+
+mf_status mf_deserialize_state(mf_instance *I, const char *fn, const unsigned char bytes[],
+                               size_t size, void **state)
+{
+    const unsigned char *p = bytes;
+    size_t tl;
+    snapshot *s;
+    if (!I) return MF_ERROR;
+    if (!array_ok(I, fn, bytes, size, "serializedState") || !array_ok(I, fn, state, 1, "FMUState"))
+        return MF_ERROR;
+    tl = strlen(I->m->instantiation_token);
+    if (size != serial_size(I) || memcmp(p, "MFS1", 4) != 0) {
+        log_error(I, "%s: not a serialized state of this model (wrong size or header)", fn);
+        return MF_ERROR;
+    }
+    p += 4;
+    if (get_u64(&p) != (uint64_t)size || get_u64(&p) != (uint64_t)tl ||
+        memcmp(p, I->m->instantiation_token, tl) != 0) {
+        log_error(I, "%s: the serialized state belongs to a different model or build "
+                     "(instantiation token mismatch)", fn);
+        return MF_ERROR;
+    }
+    p += tl;
+    if (get_u64(&p) != (uint64_t)snap_len(I->m)) {
+        log_error(I, "%s: the serialized state has the wrong length", fn);
+        return MF_ERROR;
+    }
+    s = snap_alloc(I->m);
+    if (!s) {
+        log_error(I, "%s: out of memory", fn);
+        return MF_ERROR;
+    }
+    memcpy(s->d, p, s->n * sizeof(double));
+    if (!(s->d[S_PHASE] >= 1 && s->d[S_PHASE] <= PH_TERMINATED) ||
+        ((int)s->d[S_PHASE] & ((int)s->d[S_PHASE] - 1))) {
+        free(s);
+        log_error(I, "%s: the serialized state is corrupt", fn);
+        return MF_ERROR;
+    }
+    if (*state) mf_free_state(I, fn, state);
+    *state = s;
+    return MF_OK;
+}

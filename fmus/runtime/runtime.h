@@ -1,0 +1,119 @@
+/*
+ * The FMI-version-independent core of every mechfmu FMU.
+ *
+ * All behaviour lives here: the state machine, value access rules, event
+ * iteration, Model-Exchange primitives, the Co-Simulation step with its
+ * embedded solver, and FMU-state snapshots. A version adapter (fmi3.c, later
+ * fmi2.c) only translates arguments and passes its own function name, used as
+ * the prefix of every log message ("fmi3DoStep: ...").
+ *
+ * Every function is NULL-safe in the instance (returns MF_ERROR, logs nothing
+ * since there is nowhere to log to).
+ */
+#ifndef MECHFMU_RUNTIME_H
+#define MECHFMU_RUNTIME_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "model.h"
+
+/* Same numbering as fmi3Status and the first five of fmi2Status. */
+typedef enum { MF_OK = 0, MF_WARNING = 1, MF_DISCARD = 2, MF_ERROR = 3, MF_FATAL = 4 } mf_status;
+
+typedef enum { MF_MODEL_EXCHANGE, MF_CO_SIMULATION } mf_interface;
+
+/* The importer's logger, type-erased: each FMI version has its own callback
+   signature, so the adapter supplies `dispatch` which casts `callback` back. */
+typedef void (*mf_generic_fn)(void);
+typedef void (*mf_log_dispatch)(mf_generic_fn callback, void *environment,
+                                const char *instance_name, mf_status status,
+                                const char *category, const char *message);
+
+/* Tells the importer, from inside a Co-Simulation step, that an event was handled
+   at time t and that outputs may be read now (FMI 3 intermediate update). */
+typedef void (*mf_event_dispatch)(mf_generic_fn callback, void *environment, double t);
+
+typedef struct {
+    const char *float_type;  /* "Float64" / "Real", for messages */
+    const char *int_type;    /* "Int32" / "Integer" */
+    const char *reset_hint;  /* what to call to recover, e.g. "fmi3Reset or fmi3SetFMUState" */
+    mf_log_dispatch dispatch;
+    mf_generic_fn callback;  /* may be NULL: then nothing is logged */
+    void *environment;
+    mf_event_dispatch event_dispatch;  /* may be NULL (FMI 2 has no such callback) */
+    mf_generic_fn event_callback;      /* may be NULL: then events are not reported */
+} mf_host;
+
+typedef struct mf_instance mf_instance;
+
+/* Log categories understood by mf_set_debug_logging. */
+#define MF_N_LOG_CATEGORIES 4
+extern const char *const mf_log_categories[MF_N_LOG_CATEGORIES];
+
+/* --- life cycle -------------------------------------------------------- */
+
+/* NULL (after logging why) if the token does not match the model or memory runs out. */
+mf_instance *mf_create(const mf_model *model, const char *fn, const char *instance_name,
+                       const char *token, mf_interface iface, int logging_on,
+                       int event_mode_used, const mf_host *host);
+void mf_free(mf_instance *inst);
+mf_status mf_set_debug_logging(mf_instance *inst, const char *fn, int logging_on,
+                               size_t n_categories, const char *const categories[]);
+mf_status mf_enter_initialization_mode(mf_instance *inst, const char *fn, int tolerance_defined,
+                                       double tolerance, double start_time);
+mf_status mf_exit_initialization_mode(mf_instance *inst, const char *fn);
+mf_status mf_terminate(mf_instance *inst, const char *fn);
+mf_status mf_reset(mf_instance *inst, const char *fn);
+/* Logs "<fn>: not supported by this FMU (<why>)" and returns MF_ERROR. */
+mf_status mf_unsupported(mf_instance *inst, const char *fn, const char *why);
+
+/* --- variables --------------------------------------------------------- */
+
+mf_status mf_get_float(mf_instance *inst, const char *fn, const uint32_t vr[], size_t n_vr,
+                       double values[], size_t n_values);
+mf_status mf_set_float(mf_instance *inst, const char *fn, const uint32_t vr[], size_t n_vr,
+                       const double values[], size_t n_values);
+mf_status mf_get_int(mf_instance *inst, const char *fn, const uint32_t vr[], size_t n_vr,
+                     int32_t values[], size_t n_values);
+mf_status mf_set_int(mf_instance *inst, const char *fn, const uint32_t vr[], size_t n_vr,
+                     const int32_t values[], size_t n_values);
+
+/* --- events (Model Exchange, and Co-Simulation with event mode) ---------- */
+
+mf_status mf_enter_event_mode(mf_instance *inst, const char *fn);
+/* Runs event iteration to its fixed point; *states_changed: x was changed. */
+mf_status mf_update_discrete_states(mf_instance *inst, const char *fn, int *states_changed);
+
+/* --- Model Exchange ------------------------------------------------------ */
+
+mf_status mf_enter_continuous_time_mode(mf_instance *inst, const char *fn);
+mf_status mf_completed_integrator_step(mf_instance *inst, const char *fn);
+mf_status mf_set_time(mf_instance *inst, const char *fn, double time);
+mf_status mf_set_continuous_states(mf_instance *inst, const char *fn, const double x[], size_t n);
+mf_status mf_get_continuous_states(mf_instance *inst, const char *fn, double x[], size_t n);
+mf_status mf_get_derivatives(mf_instance *inst, const char *fn, double dx[], size_t n);
+mf_status mf_get_event_indicators(mf_instance *inst, const char *fn, double z[], size_t n);
+mf_status mf_get_nominals(mf_instance *inst, const char *fn, double nominals[], size_t n);
+mf_status mf_get_number_of_states(mf_instance *inst, const char *fn, size_t *n);
+mf_status mf_get_number_of_event_indicators(mf_instance *inst, const char *fn, size_t *n);
+
+/* --- Co-Simulation ------------------------------------------------------- */
+
+mf_status mf_enter_step_mode(mf_instance *inst, const char *fn);
+/* *last_time: the time actually reached (t + h on success). */
+mf_status mf_do_step(mf_instance *inst, const char *fn, double t, double h, double *last_time);
+
+/* --- FMU state ----------------------------------------------------------- */
+
+mf_status mf_get_state(mf_instance *inst, const char *fn, void **state);
+mf_status mf_set_state(mf_instance *inst, const char *fn, const void *state);
+mf_status mf_free_state(mf_instance *inst, const char *fn, void **state);
+mf_status mf_serialized_state_size(mf_instance *inst, const char *fn, const void *state,
+                                   size_t *size);
+mf_status mf_serialize_state(mf_instance *inst, const char *fn, const void *state,
+                             unsigned char bytes[], size_t size);
+mf_status mf_deserialize_state(mf_instance *inst, const char *fn, const unsigned char bytes[],
+                               size_t size, void **state);
+
+#endif

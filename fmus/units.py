@@ -1,0 +1,31 @@
+"""SI units the components use, as FMI UnitDefinitions (exponents of the SI base units)."""
+from __future__ import annotations
+
+# unit -> exponents of (kg, m, s, rad); "1" is dimensionless
+UNITS: dict[str, dict[str, int]] = {
+    "1": {},
+    "s": {"s": 1},
+    "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/s2": {"m": 1, "s": -2},
+    "kg": {"kg": 1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N/m": {"kg": 1, "s": -2},
+    "N.s/m": {"kg": 1, "s": -1},
+    "rad": {"rad": 1},
+    "rad/s": {"rad": 1, "s": -1},
+    "rad/s2": {"rad": 1, "s": -2},
+    "1/s": {"s": -1},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
+    "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
+    "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
+    "kg.m2": {"kg": 1, "m": 2},
+    "J": {"kg": 1, "m": 2, "s": -2},
+    "N.m2": {"kg": 1, "m": 3, "s": -2},
+}
+
+
+def unit_exponents(unit: str) -> dict[str, int]:
+    if unit not in UNITS:
+        raise ValueError(f"unit '{unit}' is not in fmus/units.py; known units: {', '.join(UNITS)}")
+    return UNITS[unit]
