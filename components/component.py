@@ -52,19 +52,20 @@ class Component:
 
     def settable_names(self) -> list[str]:
         return ([p.name for p in self.parameters] + [o.name for o in self.options]
-                + [s.name for s in self.states])
+                + [s.name for s in self.states] + [s.start_name for s in self.states if s.start_name])
 
     def set(self, key: str, value) -> None:
         """Set a parameter, an option or a state's start value, with checks."""
         options = {o.name: o for o in self.options}
         if key in options:
-            option = options[key]
-            if value not in option.choices:
-                raise ComponentError(
-                    f"{self._where()}: option {key} = {value!r} is not allowed; "
-                    f"choose one of {', '.join(option.choices)}")
-            self.option_values[key] = value
+            parsed = options[key].parse(value)
+            if parsed is None:
+                raise ComponentError(f"{self._where()}: option {key} = {value!r} is not allowed; "
+                                     f"{key} ({options[key].description}) must be "
+                                     f"{options[key].allowed()}")
+            self.option_values[key] = parsed
             return
+        key = next((s.name for s in self.states if s.start_name == key), key)
         if key not in self.values and key not in self.starts:
             raise ComponentError(
                 f"{self._where()}: unknown name '{key}'; settable names: "

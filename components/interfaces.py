@@ -42,11 +42,32 @@ class Parameter:
 
 @dataclass(frozen=True)
 class Option:
-    """A structural choice fixed when the FMU is built (it changes the equations)."""
+    """A structural choice fixed when the FMU is built (it changes the equations).
+
+    String options list their `choices`; integer options (e.g. a number of modes)
+    give ``choices=range(lo, hi + 1)``.
+    """
     name: str
-    default: str
-    choices: tuple[str, ...]
+    default: str | int
+    choices: tuple[str, ...] | range
     description: str
+
+    def parse(self, value) -> str | int:
+        """The value as the option's type, or None if it is not one of the choices."""
+        if isinstance(self.choices, range):
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                return None
+            if not number.is_integer() or int(number) not in self.choices:
+                return None
+            return int(number)
+        return value if value in self.choices else None
+
+    def allowed(self) -> str:
+        if isinstance(self.choices, range):
+            return f"an integer from {self.choices.start} to {self.choices.stop - 1}"
+        return "one of " + ", ".join(self.choices)
 
 
 @dataclass(frozen=True)
@@ -57,7 +78,7 @@ class State:
     unit: str
     description: str
     output: bool = True
-    derivative_unit: str = ""
+    start_name: str | None = None  # another name its start value answers to, e.g. theta0
 
 
 @dataclass(frozen=True)

@@ -60,3 +60,21 @@ def coulomb_drag_reference(m, k, g, mu_k, mu_s, v, t_end):
 @pytest.fixture(scope="session")
 def fresh_cache(tmp_path_factory):
     return tmp_path_factory.mktemp("fmu-cache")
+
+
+def simulate_in_fmpy(component, fmi_type, stop_time, output_interval, tolerance=1e-10,
+                     output=None, tmp_path=None):
+    """Run a component's FMU through fmpy.simulate_fmu alone (no master of ours).
+
+    The component's parameter values and state starts are passed as start values,
+    as any importer would set them.
+    """
+    from fmpy import simulate_fmu
+
+    from fmus import build_fmu
+
+    path = build_fmu(component)
+    starts = {**component.values, **component.starts}
+    return simulate_fmu(str(path), fmi_type=fmi_type, stop_time=stop_time,
+                        output_interval=output_interval, relative_tolerance=tolerance,
+                        start_values=starts, output=output, record_events=True)
