@@ -18,7 +18,7 @@ def _mode_switches(res):
     return list(zip(ev["time"], ev["block.x"], ev["block.mode"]))
 
 
-@pytest.mark.parametrize("step", [0.1, 1.0, 4.0])
+@pytest.mark.parametrize("step", [0.1, 1.0, 4.0, 20.0])
 def test_seed_numbers_with_large_communication_steps(step):
     res = run_scene("stick_slip", stop_time=20.0, step=step)
     switches = _mode_switches(res)
