@@ -150,28 +150,40 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         rows = [sample(0.0)]
         n_steps = max(1, math.ceil(stop_time / step - 1e-9))
         order = assembly.order()
+        terminated = None
+
+        def step_one(name, t, h):
+            nonlocal terminated
+            inst = instances[name]
+            _, stop, _, reached = inst.call(f"doStep at t = {t:g}", inst.fmu.doStep, t, h)
+            if stop and terminated is None:  # the model says it cannot go on (why: in its log)
+                terminated = {"instance": name, "time": reached,
+                              "message": inst.messages[-1] if inst.messages else ""}
+
         for k in range(n_steps):
             t = k * step
             h = min(step, stop_time - t) if k < n_steps - 1 else stop_time - t
             if scheme == "jacobi":
-                for inst in instances.values():
-                    inst.call(f"doStep at t = {t:g}", inst.fmu.doStep, t, h)
+                for name in instances:
+                    step_one(name, t, h)
                 propagate()
             else:
                 for name in order:
                     propagate({name})
-                    instances[name].call(f"doStep at t = {t:g}", instances[name].fmu.doStep, t, h)
+                    step_one(name, t, h)
                 propagate()
             rows.append(sample(t + h))
             if progress is not None:
                 progress(t + h)
+            if terminated is not None:
+                break
         names = ["time"] + [f"{i}.{v}" for i, v in columns]
         table = Table.from_rows(names, rows)
         events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in inst.outputs],
                                         inst.event_rows)
                   for name, inst in instances.items() if inst.event_rows}
         settings = {"stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": scheme,
-                    "wall_s": wallclock.perf_counter() - started}
+                    "wall_s": wallclock.perf_counter() - started, "terminated": terminated}
         return Result({n: table[n] for n in names}, events, settings)
     finally:
         for inst in instances.values():

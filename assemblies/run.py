@@ -28,6 +28,9 @@ class SceneRun:
             lines.append(f"{f.name:<10} {f.measured:>16.10g} {f.reference:>16.10g} {f.error:>10.2e}  "
                          f"{f.description}")
         s = self.result.settings
+        if s.get("terminated"):
+            lines.append(f"terminated by {s['terminated']['instance']} at t = "
+                         f"{s['terminated']['time']:.10g}: {s['terminated']['message']}")
         lines.append(f"stop time {s['stop_time']:g} s, step {s['step']:g} s, tolerance "
                      f"{s['tolerance']:g}, {s['scheme']}, wall time {s['wall_s']:.2f} s")
         return "\n".join(lines)

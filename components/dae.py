@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 
 from .component import Component
-from .interfaces import (FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, SIGNAL_OUT, ComponentError)
+from .interfaces import (FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, SIGNAL_OUT, ComponentError, Mode)
 
 
 @dataclass
@@ -59,6 +59,7 @@ class FlatModel:
     indicators: list[Variable]
     constraints: list = field(default_factory=list)
     state_outputs: list[bool] = field(default_factory=list)
+    terminate: tuple[int, str] | None = None  # (mode index, why) when the model can end a run
 
     @property
     def args(self):
@@ -116,6 +117,8 @@ class EquationBuilder:
         self.outputs: list[tuple[Variable, ca.SX]] = []
         self.indicators: list[tuple[Variable, ca.SX]] = []
         self.jumps: dict[str, ca.SX] = {}
+        self.extra_modes: list[tuple[Mode, ca.SX]] = []  # modes the builder adds itself
+        self.terminate: str | None = None
         self.inputs: list[tuple[Variable, ca.SX]] = []
         self._ports = {}
         for port in component.ports:
@@ -195,6 +198,21 @@ class EquationBuilder:
         """An event indicator: the runtime stops at each sign change and runs the jumps."""
         name = f"event_indicator_{len(self.indicators) + 1}"
         self.indicators.append((Variable(name, "", description), ca.SX(expr)))
+
+    def terminate_when(self, margin, message: str) -> None:
+        """End the simulation, saying `message`, once `margin` falls to zero or below.
+
+        For states where the model stops being valid (a coin fallen flat): the
+        runtime locates the crossing like any event and reports terminateSimulation.
+        """
+        if self.terminate is not None:
+            raise ComponentError(f"{self.component._where()}: only one terminate condition")
+        flag = ca.SX.sym("terminated")
+        self.extra_modes.append((Mode("terminated", 0, f"1 once the run has ended: {message}",
+                                      values=(0, 1)), flag))
+        self.indicator(margin, f"margin before: {message}")
+        self.jumps["terminated"] = ca.if_else(margin <= 0, 1, flag)
+        self.terminate = message
 
     def jump(self, name: str, expr) -> None:
         """New value of a state or mode at an event (iterated until nothing changes)."""
@@ -276,14 +294,15 @@ def flatten(component: Component) -> FlatModel:
         return ca.substitute(ca.SX(expr), w, solution) if w.numel() else ca.SX(expr)
 
     x = ca.vertcat(*[getattr(e.x, s.name) for s in component.states])
-    q = ca.vertcat(*[getattr(e.q, m.name) for m in component.modes])
+    modes = list(component.modes) + [m for m, _ in e.extra_modes]
+    q = ca.vertcat(*[getattr(e.q, m.name) for m in component.modes], *[sym for _, sym in e.extra_modes])
     p = ca.vertcat(*[getattr(e.p, pp.name) for pp in component.parameters])
     u = ca.vertcat(*[sym for _, sym in e.inputs])
     xdot = explicit(ca.vertcat(*[getattr(e.der, s.name) for s in component.states]))
     y = explicit(ca.vertcat(*[expr for _, expr in e.outputs]))
     z = explicit(ca.vertcat(*[expr for _, expr in e.indicators]))
     jump_x = explicit(ca.vertcat(*[e.jumps.get(s.name, getattr(e.x, s.name)) for s in component.states]))
-    jump_q = explicit(ca.vertcat(*[e.jumps.get(m.name, getattr(e.q, m.name)) for m in component.modes]))
+    jump_q = explicit(ca.vertcat(*[e.jumps.get(m.name, q[i]) for i, m in enumerate(modes)]))
     constraints = component.parameter_constraints()
     g = ca.vertcat(*[ca.SX(c.g(e.p)) for c in constraints])
     for name, expr in (("outputs", y), ("indicators", z), ("jumps", ca.vertcat(jump_x, jump_q))):
@@ -295,7 +314,8 @@ def flatten(component: Component) -> FlatModel:
         states=[Variable(s.name, s.unit, s.description, component.starts[s.name])
                 for s in component.states],
         state_outputs=[s.output for s in component.states],
-        modes=[Variable(m.name, "", m.description, float(m.start)) for m in component.modes],
+        modes=[Variable(m.name, "", m.description, float(m.start)) for m in modes],
+        terminate=(len(modes) - 1, e.terminate) if e.terminate else None,
         inputs=[v for v, _ in e.inputs],
         parameters=[Variable(pp.name, pp.unit, pp.description, component.values[pp.name])
                     for pp in component.parameters],

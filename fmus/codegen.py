@@ -123,7 +123,8 @@ const mf_model MF_MODEL = {{
     {model.x.numel()}, {model.q.numel()}, {model.u.numel()}, {model.p.numel()}, {n_y},
     {model.z.numel()}, {len(model.constraints)},
     {len(table)}, variables, input_derivative, constraints,
-    {fn}
+    {fn},
+    {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"}
 }};
 """)
     return "\n".join(lines)

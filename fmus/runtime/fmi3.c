@@ -505,11 +505,12 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                     fmi3Boolean *nextEventTimeDefined,
                                     fmi3Float64 *nextEventTime)
 {
-    int changed = 0;
-    mf_status s = mf_update_discrete_states(INST(instance), "fmi3UpdateDiscreteStates", &changed);
+    int changed = 0, terminate = 0;
+    mf_status s = mf_update_discrete_states(INST(instance), "fmi3UpdateDiscreteStates", &changed,
+                                            &terminate);
     /* event iteration runs to its fixed point inside, and there are no time events */
     if (discreteStatesNeedUpdate) *discreteStatesNeedUpdate = fmi3False;
-    if (terminateSimulation) *terminateSimulation = fmi3False;
+    if (terminateSimulation) *terminateSimulation = terminate != 0;
     if (nominalsOfContinuousStatesChanged) *nominalsOfContinuousStatesChanged = fmi3False;
     if (valuesOfContinuousStatesChanged) *valuesOfContinuousStatesChanged = changed != 0;
     if (nextEventTimeDefined) *nextEventTimeDefined = fmi3False;
@@ -610,13 +611,14 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
                       fmi3Boolean *earlyReturn, fmi3Float64 *lastSuccessfulTime)
 {
     double reached = currentCommunicationPoint;
+    int terminate = 0;
     mf_status s;
     (void)noSetFMUStatePriorToCurrentPoint;
     s = mf_do_step(INST(instance), "fmi3DoStep", currentCommunicationPoint, communicationStepSize,
-                   &reached);
+                   &reached, &terminate);
     /* events are handled inside the step */
     if (eventHandlingNeeded) *eventHandlingNeeded = fmi3False;
-    if (terminateSimulation) *terminateSimulation = fmi3False;
+    if (terminateSimulation) *terminateSimulation = terminate != 0;
     if (earlyReturn) *earlyReturn = fmi3False;
     if (lastSuccessfulTime) *lastSuccessfulTime = reached;
     return ST(s);

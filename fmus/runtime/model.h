@@ -61,6 +61,10 @@ typedef struct {
     mf_function jump;  /* -> x_new (n_x), q_new (n_q): one event-iteration step */
     mf_function check; /* -> g (n_c); constraint i holds when g[i] >= 0 (> 0 if strict) */
     mf_function jac;   /* -> d xdot / d x (n_x * n_x, column-major) */
+    /* the discrete state that, once nonzero, ends the simulation (e.g. a coin that
+       fell flat), or -1; the message says why, the runtime adds the time */
+    int terminate_q;
+    const char *terminate_message;
 } mf_model;
 
 extern const mf_model MF_MODEL;

@@ -42,6 +42,7 @@ struct mf_instance {
     /* an event iteration or the solver failed: the model state is not one the
        simulation can go on from, so only inspection and recovery are allowed */
     int failed;
+    int terminate_reported; /* the model's terminate message was logged */
 
     double t;
     double t_start;
@@ -89,6 +90,16 @@ static void emit(const mf_host *host, const char *name, mf_status status, const 
 static void log_error(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
 static void log_warning(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
 static void log_info(const mf_instance *I, unsigned cat, const char *fmt, ...) PRINTF_LIKE(3, 4);
+static void log_always(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
+
+/* a warning the importer must see whatever the logging settings (why a run ends) */
+static void log_always(const mf_instance *I, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    emit(&I->host, I->name, MF_WARNING, "logStatusWarning", fmt, ap);
+    va_end(ap);
+}
 
 /* errors are always reported, whatever the logging settings */
 static void log_error(const mf_instance *I, const char *fmt, ...)
@@ -361,6 +372,7 @@ static void set_start_values(mf_instance *I)
     I->rtol = DEFAULT_TOLERANCE;
     I->inputs_changed = 0;
     I->failed = 0;
+    I->terminate_reported = 0;
     I->phase = PH_INSTANTIATED;
     if (m->n_z) memset(I->z_prev, 0, (size_t)m->n_z * sizeof(double));
     invalidate(I);
@@ -818,6 +830,21 @@ mf_status mf_set_int(mf_instance *I, const char *fn, const uint32_t vr[], size_t
 /* ------------------------------------------------------------------------ */
 /* events and Model Exchange                                                 */
 
+/* Whether the model's terminate flag is set; says so (always, with the time) the
+   first time, since the importer must learn why the simulation ends. */
+static int model_terminates(mf_instance *I, const char *fn)
+{
+    const mf_model *m = I->m;
+    if (m->terminate_q < 0 || m->terminate_q >= m->n_q || I->q[m->terminate_q] == 0.0) return 0;
+    if (!I->terminate_reported) {
+        I->terminate_reported = 1;
+        log_always(I, "%s: %s at t = %.17g", fn,
+                   m->terminate_message ? m->terminate_message : "the model ended the simulation",
+                   I->t);
+    }
+    return 1;
+}
+
 mf_status mf_enter_event_mode(mf_instance *I, const char *fn)
 {
     int mask;
@@ -834,10 +861,12 @@ mf_status mf_enter_event_mode(mf_instance *I, const char *fn)
     return MF_OK;
 }
 
-mf_status mf_update_discrete_states(mf_instance *I, const char *fn, int *states_changed)
+mf_status mf_update_discrete_states(mf_instance *I, const char *fn, int *states_changed,
+                                    int *terminate)
 {
     mf_status st;
     int changed = 0;
+    if (terminate) *terminate = 0;
     if (!I) return MF_ERROR;
     if (!allowed(I, fn, PH_EVENT, 1)) return MF_ERROR;
     st = event_iteration(I, fn, &changed);
@@ -847,6 +876,7 @@ mf_status mf_update_discrete_states(mf_instance *I, const char *fn, int *states_
     }
     mf_dopri_restart(&I->solver);
     if (states_changed) *states_changed = changed;
+    if (terminate) *terminate = model_terminates(I, fn);
     return MF_OK;
 }
 
@@ -1075,13 +1105,15 @@ static int locate_earliest(mf_instance *I, double ta, double tb, const double *z
     return 1;
 }
 
-mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time)
+mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time,
+                     int *terminate)
 {
     const mf_model *m;
     double t_end;
     long steps = 0, events = 0, rhs0, rej0;
     int i;
 
+    if (terminate) *terminate = 0;
     if (!I) return MF_ERROR;
     m = I->m;
     if (last_time) *last_time = I->t;
@@ -1098,6 +1130,10 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     if (!(h > 0.0) || !isfinite(h)) {
         log_error(I, "%s: communicationStepSize must be finite and > 0, got %g", fn, h);
         return MF_ERROR;
+    }
+    if (model_terminates(I, fn)) {
+        if (terminate) *terminate = 1;
+        return MF_OK; /* stays where the model ended it */
     }
     t_end = I->t + h;
     rhs0 = I->solver.n_rhs;
@@ -1164,6 +1200,11 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         events++;
         if (I->host.event_dispatch && I->host.event_callback)
             I->host.event_dispatch(I->host.event_callback, I->host.environment, I->t);
+        if (model_terminates(I, fn)) {
+            if (terminate) *terminate = 1;
+            if (last_time) *last_time = I->t;
+            return MF_OK;
+        }
     }
     I->t = t_end;
     invalidate(I);

@@ -83,7 +83,8 @@ mf_status mf_set_int(mf_instance *inst, const char *fn, const uint32_t vr[], siz
 
 mf_status mf_enter_event_mode(mf_instance *inst, const char *fn);
 /* Runs event iteration to its fixed point; *states_changed: x was changed. */
-mf_status mf_update_discrete_states(mf_instance *inst, const char *fn, int *states_changed);
+mf_status mf_update_discrete_states(mf_instance *inst, const char *fn, int *states_changed,
+                                    int *terminate);
 
 /* --- Model Exchange ------------------------------------------------------ */
 
@@ -101,8 +102,10 @@ mf_status mf_get_number_of_event_indicators(mf_instance *inst, const char *fn, s
 /* --- Co-Simulation ------------------------------------------------------- */
 
 mf_status mf_enter_step_mode(mf_instance *inst, const char *fn);
-/* *last_time: the time actually reached (t + h on success). */
-mf_status mf_do_step(mf_instance *inst, const char *fn, double t, double h, double *last_time);
+/* *last_time: the time actually reached (t + h on success, earlier when the model
+   asked to terminate, which *terminate reports). */
+mf_status mf_do_step(mf_instance *inst, const char *fn, double t, double h, double *last_time,
+                     int *terminate);
 
 /* --- FMU state ----------------------------------------------------------- */
 

@@ -1,0 +1,126 @@
+"""Three one-degree-of-freedom bodies from Chatterjee, Intermediate Dynamics: 8.1, 8.2 and 9.6."""
+from __future__ import annotations
+
+import casadi as ca
+
+from .component import Component
+from .interfaces import Constraint, Option, Parameter, Profile, State
+
+_FREE = (Profile("free", "no connectors: released from its start values"),)
+
+
+class InclinedCylinder(Component):
+    """Uniform cylinder rolling without slip down an incline (seed 8.1, Eq. 8.2).
+
+    ``s'' = (2/3) g sin(alpha)``; the seed calls the incline angle theta, here ``alpha``
+    so that it is not taken for a coordinate. Parameters: ``m`` [kg], ``R`` [m],
+    ``g`` [m/s2], ``alpha`` [rad]. States: ``s`` [m] distance of the centre down the
+    slope, ``v`` [m/s]. Outputs: ``phi`` [rad] = s / R (Eq. 8.1 with s0 = 0),
+    ``a`` [m/s2], ``f_friction`` [N] the friction the no-slip contact needs (up the slope),
+    ``N`` [N] the normal force; rolling holds while |f_friction| <= mu N, which is the
+    importer's to check.
+    """
+
+    parameters = (Parameter("m", 1.0, "kg", "mass of the cylinder", min=0.0, min_strict=True),
+                  Parameter("R", 0.1, "m", "radius of the cylinder", min=0.0, min_strict=True),
+                  Parameter("g", 9.81, "m/s2", "gravity", min=0.0),
+                  Parameter("alpha", 0.5, "rad", "angle of the incline to the horizontal",
+                            min=-1.5707963267948966, max=1.5707963267948966))
+    states = (State("s", 0.0, "m", "distance of the centre down the slope"),
+              State("v", 0.0, "m/s", "speed of the centre down the slope"))
+    profiles = _FREE
+
+    def equations(self, e):
+        p, v, a = e.p, e.x.v, e.der.v
+        friction = e.unknown("f_friction")
+        e.residual(e.der.s - v)
+        e.residual(p.m * a - p.m * p.g * ca.sin(p.alpha) + friction)
+        # the friction's moment alone spins the cylinder: J phi'' = F R, with phi'' = a / R
+        e.residual(p.m * p.R**2 / 2 * a / p.R - friction * p.R)
+        e.output("phi", e.x.s / p.R, "rad", "angle rolled through")
+        e.output("a", a, "m/s2", "acceleration of the centre down the slope")
+        e.output("f_friction", friction, "N", "friction force on the cylinder, up the slope")
+        e.output("N", p.m * p.g * ca.cos(p.alpha), "N", "normal force of the incline")
+
+
+class HemisphericalShell(Component):
+    """Thin hemispherical shell rocking on a table, planar (seed 8.2), fully nonlinear.
+
+    G lies R/2 below the centre O; I_zz at G is 5 m R^2 / 12. Option ``contact``:
+    ``rolling`` (no slip: ``(5/3 - cos phi) phi'' + sin(phi) phi'^2 / 2 + g sin(phi) / (2R)
+    = 0``, small oscillations w^2 = 3g/(4R)) or ``frictionless`` (``(13/24 - cos(2 phi)/8)
+    phi'' + sin(2 phi) phi'^2 / 8 + g sin(phi) / (2R) = 0``, w^2 = 6g/(5R); no horizontal
+    force, so G keeps its horizontal position — a uniform drift of G is a Galilean shift
+    and is left out). Valid while the rim stays off the table, |phi| < pi/2, and while the
+    normal force ``N`` stays positive.
+    Parameters: ``m`` [kg], ``R`` [m], ``g`` [m/s2]. States: ``phi`` [rad] tilt,
+    ``w`` [rad/s], ``x_G`` [m] horizontal position of G. Outputs: ``y_G`` [m], ``x_contact``
+    [m], ``N`` [N], ``E`` [J].
+    """
+
+    options = (Option("contact", "rolling", ("rolling", "frictionless"),
+                      "contact with the table: rolling without slip, or frictionless"),)
+    parameters = (Parameter("m", 1.0, "kg", "mass of the shell", min=0.0, min_strict=True),
+                  Parameter("R", 1.0, "m", "radius of the shell", min=0.0, min_strict=True),
+                  Parameter("g", 9.81, "m/s2", "gravity", min=0.0))
+    states = (State("phi", 0.0, "rad", "tilt of the shell from upright"),
+              State("w", 0.0, "rad/s", "angular velocity of the shell"),
+              State("x_G", 0.0, "m", "horizontal position of the centre of mass"))
+    profiles = _FREE
+
+    def equations(self, e):
+        p, phi, w, dw = e.p, e.x.phi, e.x.w, e.der.w
+        rolling = e.option("contact") == "rolling"
+        # from the seed's positions of G: x_G = R phi - R sin(phi)/2 (rolling) or fixed
+        dx_dphi = p.R - p.R / 2 * ca.cos(phi) if rolling else 0
+        y_G = p.R - p.R / 2 * ca.cos(phi)
+        J = 5 * p.m * p.R**2 / 12
+        # Lagrange: T = (m (x_G'^2 + y_G'^2) + J w^2) / 2 = M(phi) w^2 / 2
+        M = p.m * (dx_dphi**2 + (p.R / 2 * ca.sin(phi))**2) + J
+        dM = ca.jacobian(M, phi)
+        dV = p.m * p.g * p.R / 2 * ca.sin(phi)
+        e.residual(e.der.phi - w)
+        e.residual(M * dw + dM * w**2 / 2 + dV)
+        e.residual(e.der.x_G - dx_dphi * w)
+        # vertical momentum of G: N - m g = m y_G''
+        y_dd = p.R / 2 * (ca.sin(phi) * dw + ca.cos(phi) * w**2)
+        e.output("y_G", y_G, "m", "height of the centre of mass above the table")
+        e.output("x_contact", e.x.x_G + p.R / 2 * ca.sin(phi), "m", "contact point (below O)")
+        e.output("N", p.m * (p.g + y_dd), "N", "normal force of the table")
+        e.output("E", M * w**2 / 2 + p.m * p.g * y_G, "J", "kinetic plus potential energy")
+
+
+class RodOnRollers(Component):
+    """Rod on two counter-rotating rollers: a frictional harmonic oscillator (seed 9.6, ex. 3).
+
+    ``x'' = -(2 g mu / D) x`` while both contacts slip steadily in opposite directions (the
+    rollers' surface speed exceeds |v|) and both normal forces ``N_1 = m g (D/2 - x)/D``,
+    ``N_2 = m g (D/2 + x)/D`` are positive, i.e. |x| < D/2, and the rod rests on both
+    rollers, |x| < (L - D)/2. Outside that range the model does not hold; N_1, N_2 and
+    ``margin`` = min(D/2, (L - D)/2) - |x| are outputs so the importer can see it (the
+    runtime cannot terminate a run on an indicator yet).
+    Parameters: ``m`` [kg], ``L`` [m] > D, ``D`` [m] roller spacing, ``mu`` [1], ``g`` [m/s2].
+    States: ``x`` [m] rod centre right of the midpoint, ``v`` [m/s].
+    """
+
+    parameters = (Parameter("m", 1.0, "kg", "mass of the rod", min=0.0, min_strict=True),
+                  Parameter("L", 2.0, "m", "length of the rod", min=0.0, min_strict=True),
+                  Parameter("D", 1.0, "m", "distance between the rollers", min=0.0, min_strict=True),
+                  Parameter("mu", 0.3, "1", "friction coefficient at each roller", min=0.0),
+                  Parameter("g", 9.81, "m/s2", "gravity", min=0.0))
+    constraints = (Constraint(lambda p: p.L - p.D, "L > D (the rod spans both rollers)", strict=True),)
+    states = (State("x", 0.0, "m", "rod centre, right of the midpoint between the rollers"),
+              State("v", 0.0, "m/s", "velocity of the rod"))
+    profiles = _FREE
+
+    def equations(self, e):
+        p, x = e.p, e.x.x
+        N_1, N_2 = e.unknown("N_1"), e.unknown("N_2")
+        e.residual(N_1 + N_2 - p.m * p.g)  # no vertical acceleration
+        e.residual(N_1 * (p.D / 2 + x) - N_2 * (p.D / 2 - x))  # no rotation about G
+        e.residual(p.m * e.der.v - p.mu * (N_1 - N_2))  # left roller pushes right, right left
+        e.residual(e.der.x - e.x.v)
+        e.output("N_1", N_1, "N", "normal force of the left roller")
+        e.output("N_2", N_2, "N", "normal force of the right roller")
+        e.output("margin", ca.fmin(p.D / 2, (p.L - p.D) / 2) - ca.fabs(x), "m",
+                 "distance to the edge of the model's validity (negative: invalid)")
