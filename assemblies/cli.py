@@ -25,7 +25,7 @@ def _parse_params(pairs: list[str]) -> dict[str, str]:
 def _cmd_components(args) -> int:
     for name, cls in COMPONENTS.items():
         profiles = ", ".join(p.name for p in cls.profiles)
-        print(f"{name:<16} {cls.describe()} [profiles: {profiles}]")
+        print(f"{name:<20} {cls.describe()} [profiles: {profiles}]")
     return 0
 
 

@@ -111,6 +111,11 @@ SCENES: dict[str, Scene] = {
 }
 
 
+from .axle_scenes import AXLE_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
+
+SCENES.update(AXLE_SCENES)
+
+
 def scene(name: str) -> Scene:
     if name not in SCENES:
         raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(SCENES)}")

@@ -5,10 +5,14 @@
 from .component import Component
 from .dae import FlatModel, flatten
 from .interfaces import ComponentError, Parameter, Port, Profile, State
+from .axle import RigidBodyOnAxle
+from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 from .sources import ConstantSpeed
 from .spring_block import SpringBlock
 
-COMPONENTS = {cls.__name__: cls for cls in (SpringBlock, ConstantSpeed)}
+COMPONENTS = {cls.__name__: cls for cls in (SpringBlock, ConstantSpeed, RigidBodyOnAxle,
+                                             InclinedCylinder, HemisphericalShell, RodOnRollers)}
 
 __all__ = ["COMPONENTS", "Component", "ComponentError", "ConstantSpeed", "FlatModel",
-           "Parameter", "Port", "Profile", "SpringBlock", "State", "flatten"]
+           "HemisphericalShell", "InclinedCylinder", "Parameter", "Port", "Profile",
+           "RigidBodyOnAxle", "RodOnRollers", "SpringBlock", "State", "flatten"]

@@ -65,22 +65,23 @@ class Component:
                                      f"{options[key].allowed()}")
             self.option_values[key] = parsed
             return
+        name = key  # as the user wrote it, for messages; a start alias maps to its state
         key = next((s.name for s in self.states if s.start_name == key), key)
         if key not in self.values and key not in self.starts:
             raise ComponentError(
-                f"{self._where()}: unknown name '{key}'; settable names: "
+                f"{self._where()}: unknown name '{name}'; settable names: "
                 f"{', '.join(self.settable_names())}")
         try:
             number = float(value)
         except (TypeError, ValueError):
-            raise ComponentError(f"{self._where()}: {key} = {value!r} is not a number") from None
+            raise ComponentError(f"{self._where()}: {name} = {value!r} is not a number") from None
         if not math.isfinite(number):
             if key in self.values:
                 p = next(p for p in self.parameters if p.name == key)
-                raise ComponentError(f"{self._where()}: parameter {key} = {value} is not allowed; "
-                                     f"{key} ({p.description}, {p.unit}) must be a finite number "
+                raise ComponentError(f"{self._where()}: parameter {name} = {value} is not allowed; "
+                                     f"{name} ({p.description}, {p.unit}) must be a finite number "
                                      f"{p.allowed()}")
-            raise ComponentError(f"{self._where()}: start value {key} = {value} must be finite")
+            raise ComponentError(f"{self._where()}: start value {name} = {value} must be finite")
         (self.values if key in self.values else self.starts)[key] = number
 
     def validate(self) -> None:

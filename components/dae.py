@@ -305,9 +305,6 @@ def flatten(component: Component) -> FlatModel:
     jump_q = explicit(ca.vertcat(*[e.jumps.get(m.name, q[i]) for i, m in enumerate(modes)]))
     constraints = component.parameter_constraints()
     g = ca.vertcat(*[ca.SX(c.g(e.p)) for c in constraints])
-    for name, expr in (("outputs", y), ("indicators", z), ("jumps", ca.vertcat(jump_x, jump_q))):
-        if ca.depends_on(expr, w) if w.numel() and expr.numel() else False:
-            raise ComponentError(f"{where}: {name} still depend on unknowns")  # pragma: no cover
     return FlatModel(
         component=component, t=e.t, x=x, q=q, u=u, p=p, xdot=xdot, y=y, z=z,
         jump_x=jump_x, jump_q=jump_q, g=g,

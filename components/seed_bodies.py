@@ -51,8 +51,8 @@ class HemisphericalShell(Component):
     = 0``, small oscillations w^2 = 3g/(4R)) or ``frictionless`` (``(13/24 - cos(2 phi)/8)
     phi'' + sin(2 phi) phi'^2 / 8 + g sin(phi) / (2R) = 0``, w^2 = 6g/(5R); no horizontal
     force, so G keeps its horizontal position — a uniform drift of G is a Galilean shift
-    and is left out). Valid while the rim stays off the table, |phi| < pi/2, and while the
-    normal force ``N`` stays positive.
+    and is left out). Valid while the rim stays off the table, |phi| < pi/2 (the run ends
+    there), and while the normal force ``N`` stays positive (an output to check).
     Parameters: ``m`` [kg], ``R`` [m], ``g`` [m/s2]. States: ``phi`` [rad] tilt,
     ``w`` [rad/s], ``x_G`` [m] horizontal position of G. Outputs: ``y_G`` [m], ``x_contact``
     [m], ``N`` [N], ``E`` [J].
@@ -88,6 +88,7 @@ class HemisphericalShell(Component):
         e.output("x_contact", e.x.x_G + p.R / 2 * ca.sin(phi), "m", "contact point (below O)")
         e.output("N", p.m * (p.g + y_dd), "N", "normal force of the table")
         e.output("E", M * w**2 / 2 + p.m * p.g * y_G, "J", "kinetic plus potential energy")
+        e.terminate_when(ca.pi / 2 - ca.fabs(phi), "the rim touched the table (|phi| = pi/2)")
 
 
 class RodOnRollers(Component):
@@ -96,9 +97,9 @@ class RodOnRollers(Component):
     ``x'' = -(2 g mu / D) x`` while both contacts slip steadily in opposite directions (the
     rollers' surface speed exceeds |v|) and both normal forces ``N_1 = m g (D/2 - x)/D``,
     ``N_2 = m g (D/2 + x)/D`` are positive, i.e. |x| < D/2, and the rod rests on both
-    rollers, |x| < (L - D)/2. Outside that range the model does not hold; N_1, N_2 and
-    ``margin`` = min(D/2, (L - D)/2) - |x| are outputs so the importer can see it (the
-    runtime cannot terminate a run on an indicator yet).
+    rollers, |x| < (L - D)/2. The run ends (terminateSimulation, with the reason) where
+    ``margin`` = min(D/2, (L - D)/2) - |x| reaches zero; the rod's speed against the
+    rollers' is not known to the model and stays the importer's to check.
     Parameters: ``m`` [kg], ``L`` [m] > D, ``D`` [m] roller spacing, ``mu`` [1], ``g`` [m/s2].
     States: ``x`` [m] rod centre right of the midpoint, ``v`` [m/s].
     """
@@ -122,5 +123,6 @@ class RodOnRollers(Component):
         e.residual(e.der.x - e.x.v)
         e.output("N_1", N_1, "N", "normal force of the left roller")
         e.output("N_2", N_2, "N", "normal force of the right roller")
-        e.output("margin", ca.fmin(p.D / 2, (p.L - p.D) / 2) - ca.fabs(x), "m",
-                 "distance to the edge of the model's validity (negative: invalid)")
+        margin = ca.fmin(p.D / 2, (p.L - p.D) / 2) - ca.fabs(x)
+        e.output("margin", margin, "m", "distance to the edge of the model's validity")
+        e.terminate_when(margin, "the rod left |x| < min(D/2, (L - D)/2): it tips or falls off")

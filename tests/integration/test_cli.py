@@ -6,7 +6,7 @@ import sys
 import pytest
 
 from assemblies import Assembly, AssemblyError
-from components import ConstantSpeed, SpringBlock
+from components import COMPONENTS, ConstantSpeed, SpringBlock
 
 
 def mechfmu(*args, cwd=None):
@@ -17,7 +17,7 @@ def mechfmu(*args, cwd=None):
 def test_listings_name_what_build_and_run_take():
     comps = mechfmu("components")
     assert comps.returncode == 0
-    assert [line.split()[0] for line in comps.stdout.splitlines()] == ["SpringBlock", "ConstantSpeed"]
+    assert [line.split()[0] for line in comps.stdout.splitlines()] == list(COMPONENTS)
     scenes = mechfmu("scenes")
     assert scenes.returncode == 0
     assert {line.split()[0] for line in scenes.stdout.splitlines()} >= {"stick_slip", "friction_damping"}
