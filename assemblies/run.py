@@ -63,6 +63,10 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         result.to_csv(out / f"{name}.csv")
-        plot_result(result, sc.plot, f"{name}: {sc.description}", out / f"{name}.png")
+        title, png = f"{name}: {sc.description}", out / f"{name}.png"
+        if sc.picture is not None:
+            sc.picture(result, title, png)
+        else:
+            plot_result(result, sc.plot, title, png)
         (out / f"{name}.json").write_text(json.dumps(run.summary(), indent=2) + "\n")
     return run

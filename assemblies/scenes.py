@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Callable
 
 from components import ConstantSpeed, SpringBlock
@@ -36,6 +37,7 @@ class Scene:
     record: list[str]
     figures: Callable[[Result, Assembly], list[Figure]]
     plot: list[str] = field(default_factory=list)
+    picture: Callable[[Result, str, Path], None] | None = None  # replaces the panel plot
 
 
 def _mode_events(result: Result, instance: str):
@@ -114,6 +116,10 @@ SCENES: dict[str, Scene] = {
 from .axle_scenes import AXLE_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
 
 SCENES.update(AXLE_SCENES)
+
+from .coin_scenes import COIN_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
+
+SCENES.update(COIN_SCENES)
 
 
 def scene(name: str) -> Scene:

@@ -6,13 +6,17 @@ from .component import Component
 from .dae import FlatModel, flatten
 from .interfaces import ComponentError, Parameter, Port, Profile, State
 from .axle import RigidBodyOnAxle
+from .rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
+from .rolling_coin import RollingCoin
 from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 from .sources import ConstantSpeed
 from .spring_block import SpringBlock
 
-COMPONENTS = {cls.__name__: cls for cls in (SpringBlock, ConstantSpeed, RigidBodyOnAxle,
-                                             InclinedCylinder, HemisphericalShell, RodOnRollers)}
+COMPONENTS = {cls.__name__: cls for cls in (
+    SpringBlock, ConstantSpeed, RigidBodyOnAxle, InclinedCylinder, HemisphericalShell,
+    RodOnRollers, RollingCoin, TorqueFreeBody, WobblingDisk, Skate)}
 
 __all__ = ["COMPONENTS", "Component", "ComponentError", "ConstantSpeed", "FlatModel",
            "HemisphericalShell", "InclinedCylinder", "Parameter", "Port", "Profile",
-           "RigidBodyOnAxle", "RodOnRollers", "SpringBlock", "State", "flatten"]
+           "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "SpringBlock", "State",
+           "TorqueFreeBody", "WobblingDisk", "flatten"]

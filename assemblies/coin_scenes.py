@@ -1,0 +1,214 @@
+"""The seed's 3-D rigid bodies as scenes: the rolling coin (ch. 6), a torque-free flip (8.3)
+and the skate (5.5), each with its conservation figures and one physical prediction."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from components.rigid_bodies import Skate, TorqueFreeBody
+from components.rolling_coin import (RollingCoin, critical_spin_squared, disk_inertias,
+                                     steady_precession)
+
+from .assembly import Assembly
+from .axle_scenes import period_from_crossings
+from .coin_plot import plot_coin
+from .result import Result
+from .scenes import Figure, Scene
+
+COIN_OUTPUTS = ["x", "y", "z", "phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "lean",
+                "x_C", "y_C", "F_x", "F_y", "N", "E", "v_C_x", "v_C_y", "v_C_z"]
+UPRIGHT_LEAN = 1e-3      # rad: small enough for the linearised lean to hold to ~1e-6
+UPRIGHT_SPEED_RATIO = 1.1
+CIRCLE_THETA, CIRCLE_SPIN = math.pi / 3, -8.0
+
+
+def _coin(name: str, **starts) -> Assembly:
+    asm = Assembly(name)
+    asm.add("coin", RollingCoin(m=1.0, R=1.0, g=9.81, **starts))
+    return asm
+
+
+def _drift(values: np.ndarray, relative: bool = True) -> float:
+    scale = abs(values[0]) if relative and values[0] != 0 else 1.0
+    return float(np.abs(values - values[0]).max() / scale)
+
+
+def _conservation_figures(result: Result) -> list[Figure]:
+    slip = max(float(np.abs(result[f"coin.v_C_{k}"]).max()) for k in "xyz")
+    return [Figure("E_drift", "largest |E - E(0)| / |E(0)| (no dissipation: 0)",
+                   _drift(result["coin.E"]), 0.0),
+            Figure("v_C_max", "largest |velocity of the contact point| [m/s] (no slip: 0)",
+                   slip, 0.0)]
+
+
+# --- coin_rolling: any start given with --param coin.NAME=VALUE ---------------
+def _coin_rolling() -> Assembly:
+    return _coin("coin_rolling")
+
+
+# --- coin_upright: straight rolling just above the critical speed ------------------
+def _coin_upright() -> Assembly:
+    p = RollingCoin().values
+    spin = UPRIGHT_SPEED_RATIO * math.sqrt(critical_spin_squared(p["m"], p["R"], p["g"]))
+    return _coin("coin_upright", theta=math.pi / 2 - UPRIGHT_LEAN, phi_dot=0.0, theta_dot=0.0,
+                 psi_dot=-spin)
+
+
+def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
+    """Linearised (see critical_spin_squared), with phi' = 0 at the start:
+    lean'' = b lean - k W^2 (lean - lean0), k = I_a (I_a + m R^2) / (I_d (I_d + m R^2)),
+    b = m g R / (I_d + m R^2). The lean oscillates at sqrt(k W^2 - b) = sqrt(k (W^2 - W_c^2))
+    about k W^2 lean0 / (k W^2 - b): the measured frequency gives back the critical speed,
+    to be compared with sqrt(g R / 3), and the largest lean is twice that centre less lean0."""
+    coin = asm.component("coin")
+    m, R, g = (coin.values[k] for k in ("m", "R", "g"))
+    I_d, I_a = disk_inertias(m, R)
+    k = I_a * (I_a + m * R**2) / (I_d * (I_d + m * R**2))
+    spin = abs(coin.starts["psi_dot"])
+    lean = result["coin.lean"]
+    period = period_from_crossings(result["time"], lean - lean.mean(), -result["coin.theta_dot"])
+    frequency = 2 * math.pi / period
+    measured = R * math.sqrt(max(spin**2 - frequency**2 / k, 0.0))
+    return [Figure("v_crit", "critical speed [m/s] from the lean frequency vs sqrt(g R / 3)",
+                   measured, math.sqrt(g * R / 3)),
+            Figure("lean_max", "largest |lean| / start lean vs linear: oscillation about "
+                   "k W^2 lean0 / (k W^2 - b), b = m g R / (I_d + m R^2)",
+                   float(np.abs(lean).max()) / abs(lean[0]),
+                   abs(2 * k * spin**2 / (k * spin**2 - m * g * R / (I_d + m * R**2)) - 1)),
+            *_conservation_figures(result)]
+
+
+# --- coin_circle: steady circular rolling ------------------------------------
+def _coin_circle() -> Assembly:
+    p = RollingCoin().values
+    precession = min(steady_precession(CIRCLE_THETA, CIRCLE_SPIN, p["R"], p["g"]), key=abs)
+    return _coin("coin_circle", theta=CIRCLE_THETA, phi_dot=precession, theta_dot=0.0,
+                 psi_dot=CIRCLE_SPIN)
+
+
+def contact_circle_radius(theta: float, phi_dot: float, psi_dot: float, R: float) -> float:
+    """Steady rolling: G circles at radius |V / phi'| (V = -R (psi' + phi' cos theta), its
+    speed), and C lies R cos(theta) further out along the same radius, opposite the centre
+    offset a_G / phi'^2 = (V / phi') j at phi = 0."""
+    V = -R * (psi_dot + phi_dot * math.cos(theta))
+    return abs(V / phi_dot + R * math.cos(theta))
+
+
+def fitted_circle_radius(x: np.ndarray, y: np.ndarray) -> float:
+    """Least-squares circle through points: x^2 + y^2 = 2 a x + 2 b y + c."""
+    A = np.column_stack([2 * x, 2 * y, np.ones_like(x)])
+    (a, b, c), *_ = np.linalg.lstsq(A, x**2 + y**2, rcond=None)
+    return float(math.sqrt(c + a * a + b * b))
+
+
+def _coin_circle_figures(result: Result, asm: Assembly) -> list[Figure]:
+    s, R = asm.component("coin").starts, asm.component("coin").values["R"]
+    return [Figure("lean_drift", "largest |theta - theta(0)| [rad] (steady: 0)",
+                   _drift(result["coin.theta"], relative=False), 0.0),
+            Figure("r_contact", "radius of the contact path [m] vs the steady-motion relation",
+                   fitted_circle_radius(result["coin.x_C"], result["coin.y_C"]),
+                   contact_circle_radius(s["theta"], s["phi_dot"], s["psi_dot"], R)),
+            *_conservation_figures(result)]
+
+
+# --- torque_free_flip: spin about the intermediate axis ------------------------
+FLIP_NUDGE = 1e-3
+
+
+def _torque_free_flip() -> Assembly:
+    asm = Assembly("torque_free_flip")
+    asm.add("body", TorqueFreeBody(I_xx=1.0, I_yy=2.0, I_zz=3.0, w_x=FLIP_NUDGE, w_y=1.0, w_z=0.0))
+    return asm
+
+
+def _torque_free_flip_figures(result: Result, asm: Assembly) -> list[Figure]:
+    """Linearised about w = (0, W, 0): w_x = xi0 cosh(lambda t), lambda^2 =
+    W^2 (I_yy - I_xx)(I_zz - I_yy) / (I_xx I_zz); measured where w_x reaches 10 xi0."""
+    body = asm.component("body")
+    p, W, xi0 = body.values, body.starts["w_y"], body.starts["w_x"]
+    lam = abs(W) * math.sqrt((p["I_yy"] - p["I_xx"]) * (p["I_zz"] - p["I_yy"]) / (p["I_xx"] * p["I_zz"]))
+    t, wx = result["time"], np.abs(result["body.w_x"])
+    i = int(np.argmax(wx >= 10 * abs(xi0)))
+    measured = math.nan
+    if i > 0:  # interpolate log w_x between the samples around the crossing
+        f = (math.log(10 * abs(xi0)) - math.log(wx[i - 1])) / (math.log(wx[i]) - math.log(wx[i - 1]))
+        measured = math.acosh(10.0) / (t[i - 1] + f * (t[i] - t[i - 1]))
+    return [Figure("growth", "departure rate from intermediate-axis spin [1/s] vs linearised",
+                   measured, lam),
+            Figure("H_drift", "largest relative change of |H|", _drift(result["body.H"]), 0.0),
+            Figure("T_drift", "largest relative change of the kinetic energy",
+                   _drift(result["body.T"]), 0.0),
+            Figure("flipped", "smallest w_y / w_y(0) (a flip reaches about -1)",
+                   float(result["body.w_y"].min() / W), -1.0)]
+
+
+# --- skate: seed 5.5 ----------------------------------------------------------
+def _skate() -> Assembly:
+    asm = Assembly("skate")
+    asm.add("skate", Skate())
+    return asm
+
+
+def skate_settled_heading(theta0: float, u0: float, omega0: float, m: float, J: float,
+                          L: float) -> float:
+    """Where the seed's skate ends up pointing. With u the knife edge's speed along the
+    blade, u' = -L omega^2 and (J + m L^2) omega' = m L u omega; energy gives
+    u^2 + K omega^2 = V^2, K = (J + m L^2)/m, so u = -V tanh(a (t - t0)) with a = L V / K,
+    tanh(a t0) = u0 / V, omega ~ sech, and the heading turns in all by
+    sign(omega0) (sqrt K / L) (pi/2 + atan(sinh(a t0)))."""
+    K = (J + m * L**2) / m
+    V = math.sqrt(u0**2 + K * omega0**2)
+    a = L * V / K
+    t0 = math.atanh(u0 / V) / a
+    return theta0 + math.copysign(1.0, omega0) * math.sqrt(K) / L * (
+        math.pi / 2 + math.atan(math.sinh(a * t0)))
+
+
+def _skate_figures(result: Result, asm: Assembly) -> list[Figure]:
+    sk = asm.component("skate")
+    p, s = sk.values, sk.starts
+    th = s["theta"]
+    u0 = s["v_x"] * math.cos(th) + s["v_y"] * math.sin(th)
+    return [Figure("theta_end", "heading at the stop time [rad] vs the settled heading",
+                   float(result["skate.theta"][-1]),
+                   skate_settled_heading(th, u0, s["omega"], p["m"], p["J"], p["L"])),
+            Figure("E_drift", "largest relative change of the energy", _drift(result["skate.E"]), 0.0),
+            Figure("constraint", "largest |Eq. 5.19 residual| [m/s] (0)",
+                   float(np.abs(result["skate.constraint"]).max()), 0.0)]
+
+
+def _record(instance: str, names: list[str]) -> list[str]:
+    return [f"{instance}.{n}" for n in names]
+
+
+COIN_SCENES: dict[str, Scene] = {
+    "coin_rolling": Scene(
+        "coin_rolling", "seed ch. 6: a coin rolling without slip from a given state",
+        _coin_rolling, stop_time=10.0, step=0.01, tolerance=1e-12,
+        record=_record("coin", COIN_OUTPUTS), figures=lambda r, a: _conservation_figures(r),
+        plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin),
+    "coin_upright": Scene(
+        "coin_upright", "seed ch. 6: straight upright rolling at 1.1 x the critical speed",
+        _coin_upright, stop_time=20.0, step=0.01, tolerance=1e-12,
+        record=_record("coin", COIN_OUTPUTS), figures=_coin_upright_figures,
+        plot=["coin.lean", "coin.phi_dot", "coin.E"], picture=plot_coin),
+    "coin_circle": Scene(
+        "coin_circle", "seed ch. 6: steady circular rolling at a 30 degree lean",
+        _coin_circle, stop_time=10.0, step=0.01, tolerance=1e-12,
+        record=_record("coin", COIN_OUTPUTS), figures=_coin_circle_figures,
+        plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin),
+    "torque_free_flip": Scene(
+        "torque_free_flip", "seed 8.3: spin about the intermediate axis turns the body over",
+        _torque_free_flip, stop_time=30.0, step=0.01, tolerance=1e-12,
+        record=_record("body", ["w_x", "w_y", "w_z", "H", "T", "H_X", "H_Y", "H_Z", "x_X", "x_Y",
+                                "x_Z"]),
+        figures=_torque_free_flip_figures, plot=["body.w_x", "body.w_y", "body.w_z"]),
+    "skate": Scene(
+        "skate", "seed 5.5: skate with a knife edge on ice, its heading settles",
+        _skate, stop_time=20.0, step=0.01, tolerance=1e-12,
+        record=_record("skate", ["x", "y", "theta", "omega", "u", "lambda", "E", "constraint"]),
+        figures=_skate_figures, plot=["skate.theta", "skate.omega", "skate.u"]),
+}
+
+__all__ = ["COIN_SCENES", "contact_circle_radius", "fitted_circle_radius", "skate_settled_heading"]
