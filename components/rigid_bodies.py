@@ -97,14 +97,19 @@ class WobblingDisk(Component):
     sin th sin ph)`` is the disk's axis in ground axes, theta its wobble angle from X and
     phi' the wobble rate. theta = 0 is singular (phi and psi turn about the same axis):
     start with the disk's axis off X. Steady wobble: ``phi' = -2 psi' / cos(theta)``.
-    Parameters: ``I_s`` [kg.m2] moment about a diameter. States: ``phi, theta, psi`` [rad],
+    Parameters: ``I_s`` [kg.m2] moment about a diameter; ``theta_min`` [rad]: the run ends
+    (terminateSimulation, with a message) once sin(theta) < sin(theta_min), never NaN.
+    States: ``phi, theta, psi`` [rad],
     ``phi_dot, theta_dot, psi_dot`` [rad/s]. Outputs: ``n_X, n_Y, n_Z`` [1], ``spin``
     [rad/s] the angular velocity about the disk's axis ``psi' + cos(theta) phi'``,
     ``T`` [J] kinetic energy.
     """
 
     parameters = (Parameter("I_s", 0.25, "kg.m2", "moment of inertia about a diameter",
-                            min=0.0, min_strict=True),)
+                            min=0.0, min_strict=True),
+                  Parameter("theta_min", 1e-3, "rad", "the run ends when the wobble angle gets "
+                            "this close to 0 or pi, where the angles are singular",
+                            min=0.0, min_strict=True, max=0.5))
     states = (
         State("phi", 0.0, "rad", "first (1,3,1) Euler angle, about the ground X axis"),
         State("theta", 0.05, "rad", "second Euler angle: wobble of the disk's axis from X"),
@@ -133,6 +138,9 @@ class WobblingDisk(Component):
         e.output("spin", spin, "rad/s", "angular velocity about the disk's own axis")
         e.output("T", e.p.I_s / 2 * (2 * spin**2 + th_d**2 + ca.sin(th)**2 * ph_d**2), "J",
                  "kinetic energy")
+        # Eqs. 8.14 and 8.16 have determinant sin(theta)^2: stop before it vanishes
+        e.terminate_when(ca.sin(th)**2 - ca.sin(e.p.theta_min)**2,
+                         "disk axis reached the X axis, where (1,3,1) Euler angles are singular")
 
 
 class Skate(Component):

@@ -163,3 +163,19 @@ def test_wobbling_disk_runs_in_model_exchange():
     cs = simulate_in_fmpy(disk, "CoSimulation", 5.0, 0.05, tolerance=1e-10, output=["n_Y", "n_Z"])
     assert me["time"][-1] == pytest.approx(5.0)
     assert np.abs(me["n_Y"] - cs["n_Y"]).max() < 1e-6 and np.abs(me["n_Z"] - cs["n_Z"]).max() < 1e-6
+
+
+def test_wobbling_disk_ends_cleanly_at_its_singularity():
+    """Axis driven onto X (theta -> 0): the run stops with a message, never NaN."""
+    import numpy as np
+
+    from assemblies import Assembly, cosimulate
+    from components import WobblingDisk
+
+    asm = Assembly("wobble")
+    asm.add("disk", WobblingDisk(theta=0.2, theta_dot=-1.0, phi_dot=0.0, psi_dot=0.0))
+    res = cosimulate(asm, stop_time=2.0, step=0.05, tolerance=1e-10)
+    end = res.settings["terminated"]
+    assert end is not None and "singular" in end["message"]
+    assert abs(end["time"] - (0.2 - 1e-3)) < 1e-6  # theta' stays -1 with no wobble or spin
+    assert all(np.isfinite(res[c]).all() for c in res.columns)
