@@ -41,7 +41,7 @@ def _cmd_build(args) -> int:
     if args.component not in COMPONENTS:
         raise UsageError(f"unknown component '{args.component}'; components: {', '.join(COMPONENTS)}")
     component = COMPONENTS[args.component](profile=args.profile, **_parse_params(args.param))
-    path = build_fmu(component, args.output)
+    path = build_fmu(component, args.output, fmi_version=args.fmi)
     print(path)
     return 0
 
@@ -74,6 +74,8 @@ def _parser() -> argparse.ArgumentParser:
     b = sub.add_parser("build", help="build one component into an FMU")
     b.add_argument("component")
     b.add_argument("-o", "--output", required=True, help="the .fmu file to write")
+    b.add_argument("--fmi", type=int, choices=(2, 3), default=3,
+                   help="FMI version of the FMU (default: 3)")
     b.add_argument("--profile", help="causality profile (default: the component's first)")
     b.add_argument("--param", action="append", metavar="NAME=VALUE",
                    help="parameter, option or start value (repeatable)")

@@ -1,8 +1,12 @@
 """Build a real FMU from a component: generate C, compile with gcc, zip.
 
-FMUs are cached by a content hash of everything that goes into them (generated
-C, modelDescription, the runtime sources, compiler flags), so an unchanged
-component costs no compile. The cache lives in ``$MECHFMU_CACHE`` or
+One build is one FMI version: the library is compiled from the model, the
+shared runtime (runtime.c, solver.c) and exactly one version adapter (fmi2.c or
+fmi3.c), so it exports that version's functions and nothing else.
+
+FMUs are cached by a content hash of everything that goes into them (FMI
+version, generated C, modelDescription, the runtime sources, compiler flags), so
+an unchanged component costs no compile. The cache lives in ``$MECHFMU_CACHE`` or
 ``~/.cache/mechfmu``.
 """
 from __future__ import annotations
@@ -12,6 +16,7 @@ import os
 import platform
 import shutil
 import subprocess
+import sys
 import tempfile
 import zipfile
 from pathlib import Path
@@ -22,7 +27,7 @@ from components.component import Component
 from components.dae import flatten
 
 from .codegen import generate_c
-from .model_description import model_description
+from .model_description import FMI_VERSIONS, model_description
 
 RUNTIME_DIR = Path(__file__).parent / "runtime"
 FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
@@ -37,14 +42,26 @@ def cache_dir() -> Path:
     return Path(os.environ.get("MECHFMU_CACHE", Path.home() / ".cache" / "mechfmu"))
 
 
-def _platform_folder() -> str:
+def _platform_folder(fmi_version: int) -> str:
+    """binaries/<folder>: FMI 3 names machine and system (x86_64-linux), FMI 2 the system
+    and word size (linux64)."""
     machine = {"AMD64": "x86_64", "arm64": "aarch64"}.get(platform.machine(), platform.machine())
     system = {"Linux": "linux", "Darwin": "darwin", "Windows": "windows"}[platform.system()]
+    if fmi_version == 2:
+        bits = 64 if sys.maxsize > 2**32 else 32
+        return {"windows": "win"}.get(system, system) + str(bits)
     return f"{machine}-{system}"
 
 
 def _runtime_sources() -> list[Path]:
     return sorted(RUNTIME_DIR.glob("*.c")) + sorted(RUNTIME_DIR.glob("*.h"))
+
+
+def _c_files(fmi_version: int) -> list[Path]:
+    """The runtime's C files for one FMI version: the core plus that version's adapter."""
+    adapters = {f"fmi{v}.c" for v in FMI_VERSIONS}
+    core = [p for p in sorted(RUNTIME_DIR.glob("*.c")) if p.name not in adapters]
+    return core + [RUNTIME_DIR / f"fmi{fmi_version}.c"]
 
 
 def _content_hash(*texts: str) -> str:
@@ -60,22 +77,26 @@ def _content_hash(*texts: str) -> str:
 
 
 def build_fmu(component: Component, output: str | os.PathLike | None = None,
-              tolerance: float = 1e-8) -> Path:
-    """Build (or fetch from the cache) the FMU of `component` under its profile.
+              fmi_version: int = 3, tolerance: float = 1e-8) -> Path:
+    """Build (or fetch from the cache) the FMI 2.0 or 3.0 FMU of `component` under its profile.
 
     The component's current parameter values and state starts become the FMU's
     start values. Returns the path of the .fmu (`output` if given).
     """
+    if fmi_version not in FMI_VERSIONS:
+        raise ValueError(f"fmi_version must be 2 or 3, not {fmi_version!r}")
     model = flatten(component)
     identifier = type(component).__name__
     # the token is derived from the content, so compute both with a placeholder first
     c_source = generate_c(model, identifier, "@TOKEN@")
-    xml = model_description(model, identifier, "@TOKEN@", component.default_stop_time, tolerance)
-    digest = _content_hash(c_source, xml)
+    xml = model_description(model, identifier, "@TOKEN@", component.default_stop_time, tolerance,
+                            fmi_version=fmi_version)
+    digest = _content_hash(f"fmi{fmi_version}", c_source, xml)
     token = "{%s-%s-%s-%s-%s}" % (digest[:8], digest[8:12], digest[12:16], digest[16:20], digest[20:32])
-    cached = cache_dir() / "fmus" / f"{identifier}-{digest[:16]}.fmu"
+    cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     if not cached.exists():
-        _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token), cached)
+        _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token),
+                 cached, fmi_version)
     if output is None:
         return cached
     output = Path(output)
@@ -84,19 +105,19 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     return output
 
 
-def _compile(identifier: str, c_source: str, xml: str, target: Path) -> None:
+def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version: int) -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="mechfmu-build-") as tmp:
         tmp = Path(tmp)
         (tmp / "model.c").write_text(c_source)
         library = tmp / f"{identifier}.so"
         cmd = (["gcc", *CFLAGS, f"-I{RUNTIME_DIR}", f"-I{FMI_HEADERS}", "-o", str(library),
-                str(tmp / "model.c")] + [str(p) for p in sorted(RUNTIME_DIR.glob("*.c"))] + ["-lm"])
+                str(tmp / "model.c")] + [str(p) for p in _c_files(fmi_version)] + ["-lm"])
         result = subprocess.run(cmd, capture_output=True, text=True)
         if result.returncode != 0:
             raise BuildError(f"gcc failed for {identifier}:\n{result.stderr}")
         partial = target.with_suffix(f".{os.getpid()}.partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
             zf.writestr("modelDescription.xml", xml)
-            zf.write(library, f"binaries/{_platform_folder()}/{identifier}.so")
+            zf.write(library, f"binaries/{_platform_folder(fmi_version)}/{identifier}.so")
         partial.replace(target)  # atomic: parallel builds never see half an FMU

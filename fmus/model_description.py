@@ -1,10 +1,22 @@
-"""modelDescription.xml for FMI 3.0 (Model Exchange and Co-Simulation in one FMU).
+"""modelDescription.xml for FMI 2.0 and 3.0 (Model Exchange and Co-Simulation in one FMU).
 
-Dependencies in ModelStructure come from CasADi's structural sparsity, so they
-are exact: an output lists exactly the states and inputs it depends on.
+Both versions describe the same FMU: the variable table of :mod:`fmus.codegen`
+(so value references are identical in both) and one :class:`Structure`, computed
+once here. Dependencies in it come from CasADi's structural sparsity, so they are
+exact: an output lists exactly the states and inputs it depends on. The two
+writers below only spell that in their version's syntax:
+
+- FMI 3 has typed elements (``<Float64 .../>``), ``time`` as the independent
+  variable, and refers to variables by value reference.
+- FMI 2 has ``<ScalarVariable>`` with a ``<Real>``/``<Integer>`` child, no time
+  variable (time is implicit), and refers to variables by their 1-based index
+  in ModelVariables. Event indicators are not variables in FMI 2 (their number is
+  an attribute), but we keep them as ``local`` variables, which is legal: the
+  value references stay those of FMI 3, and a user can still plot them.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
 import casadi as ca
@@ -15,91 +27,178 @@ from .codegen import ModelVariable, computed_outputs, variable_table
 from .units import unit_exponents
 
 GENERATION_TOOL = "mechfmu 0.1"
+FMI_VERSIONS = (2, 3)
+
+_LOG_CATEGORIES = (
+    ("logEvents", "events: time, indicators, mode changes"),
+    ("logStatusWarning", "warnings"),
+    ("logStatusError", "errors, with what is allowed"),
+    ("logSolver", "per step: internal steps, rejections, derivative evaluations, events"),
+)
 
 
-def _dependencies(expr: ca.SX, model: FlatModel, table: list[ModelVariable]) -> str:
+@dataclass
+class Structure:
+    """ModelStructure, version-free: variables and the value references they depend on.
+
+    A dependency list of None means "may depend on anything" (a mode, which
+    changes only at events): the writers then leave the attribute out.
+    """
+    outputs: list[tuple[ModelVariable, list[int] | None]]
+    derivatives: list[tuple[ModelVariable, list[int]]]
+    initial_unknowns: list[ModelVariable]
+    indicators: list[tuple[ModelVariable, list[int]]]
+
+
+def _dependencies(expr: ca.SX, model: FlatModel, table: list[ModelVariable]) -> list[int]:
     """Value references of the states and inputs that `expr` structurally depends on."""
     knowns = [r for r in table if r.kind in ("MF_STATE", "MF_INPUT")]
     symbols = ca.vertcat(model.x, model.u)
     if symbols.numel() == 0:
-        return ""
+        return []
     sp = ca.jacobian_sparsity(expr, symbols)
-    cols = sorted(set(sp.get_col()))
-    return " ".join(str(knowns[c].vr) for c in cols)
+    return [knowns[c].vr for c in sorted(set(sp.get_col()))]
+
+
+def model_structure(model: FlatModel, table: list[ModelVariable]) -> Structure:
+    y = computed_outputs(model)
+    outputs = []
+    for r in table:
+        if r.causality != "output":
+            continue
+        if r.kind == "MF_STATE":
+            outputs.append((r, [r.vr]))
+        elif r.kind == "MF_COMPUTED":
+            outputs.append((r, _dependencies(y[r.index], model, table)))
+        else:  # a mode changes at events only; it may depend on anything
+            outputs.append((r, None))
+    derivatives = [(r, _dependencies(model.xdot[r.index], model, table))
+                   for r in table if r.kind == "MF_DERIVATIVE"]
+    initial = [r for r in table
+               if r.initial == "calculated" and (r.causality == "output" or r.kind == "MF_DERIVATIVE")]
+    indicators = [(r, _dependencies(y[r.index], model, table)) for r in table if r.is_indicator]
+    return Structure(outputs, derivatives, initial, indicators)
 
 
 def _attrs(**kw) -> str:
     return " ".join(f"{k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
 
 
-def model_description(model: FlatModel, model_identifier: str, token: str,
-                      stop_time: float, tolerance: float = 1e-8) -> str:
-    table = variable_table(model)
-    component = model.component
-    y = computed_outputs(model)
-    units = sorted({r.unit for r in table if r.unit})
-    out = ['<?xml version="1.0" encoding="UTF-8"?>',
-           "<fmiModelDescription " + _attrs(
-               fmiVersion="3.0", modelName=model_identifier, instantiationToken=token,
-               description=component.describe(), generationTool=GENERATION_TOOL,
+def _start(r: ModelVariable):
+    if r.start is None:
+        return None
+    return int(r.start) if r.is_integer else repr(float(r.start))
+
+
+def _initial(r: ModelVariable) -> str | None:
+    # the standards forbid `initial` on the independent variable and on inputs
+    return r.initial if r.causality not in ("independent", "input") else None
+
+
+def _shared_head(model: FlatModel, table: list[ModelVariable], stop_time: float,
+                 tolerance: float) -> list[str]:
+    """UnitDefinitions, LogCategories, DefaultExperiment: the same shape in FMI 2 and 3."""
+    out = ["  <UnitDefinitions>"]
+    for unit in sorted({r.unit for r in table if r.unit}):
+        out.append(f"    <Unit {_attrs(name=unit)}><BaseUnit {_attrs(**unit_exponents(unit))}/></Unit>")
+    out += ["  </UnitDefinitions>", "  <LogCategories>"]
+    out += [f"    <Category {_attrs(name=n, description=d)}/>" for n, d in _LOG_CATEGORIES]
+    out += ["  </LogCategories>",
+            "  <DefaultExperiment " + _attrs(startTime=0.0, stopTime=stop_time,
+                                             tolerance=tolerance) + "/>"]
+    return out
+
+
+def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
+    out = ["<fmiModelDescription " + _attrs(
+               fmiVersion="3.0", modelName=identifier, instantiationToken=token,
+               description=model.component.describe(), generationTool=GENERATION_TOOL,
                variableNamingConvention="structured") + ">",
-           "  <ModelExchange " + _attrs(modelIdentifier=model_identifier,
-                                        canGetAndSetFMUState="true",
+           "  <ModelExchange " + _attrs(modelIdentifier=identifier, canGetAndSetFMUState="true",
                                         canSerializeFMUState="true") + "/>",
-           "  <CoSimulation " + _attrs(modelIdentifier=model_identifier,
+           "  <CoSimulation " + _attrs(modelIdentifier=identifier,
                                        canHandleVariableCommunicationStepSize="true",
                                        providesIntermediateUpdate="true",
                                        canGetAndSetFMUState="true",
                                        canSerializeFMUState="true") + "/>",
-           "  <UnitDefinitions>"]
-    for unit in units:
-        exps = unit_exponents(unit)
-        out.append(f"    <Unit {_attrs(name=unit)}><BaseUnit {_attrs(**exps)}/></Unit>")
-    out += ["  </UnitDefinitions>",
-            "  <LogCategories>",
-            '    <Category name="logEvents" description="events: time, indicators, mode changes"/>',
-            '    <Category name="logStatusWarning" description="warnings"/>',
-            '    <Category name="logStatusError" description="errors, with what is allowed"/>',
-            '    <Category name="logSolver" description="per step: internal steps, rejections, '
-            'derivative evaluations, events"/>',
-            "  </LogCategories>",
-            "  " + "<DefaultExperiment " + _attrs(startTime=0.0, stopTime=stop_time,
-                                                  tolerance=tolerance) + "/>",
-            "  <ModelVariables>"]
+           *head, "  <ModelVariables>"]
     for r in table:
         tag = "Int32" if r.is_integer else "Float64"
-        start = None
-        if r.start is not None:
-            start = int(r.start) if r.is_integer else repr(float(r.start))
         variability = r.variability if r.causality != "independent" else "continuous"
         attrs = _attrs(name=r.name, valueReference=r.vr, description=r.description or None,
-                       causality=r.causality, variability=variability,
-                       initial=r.initial if r.causality not in ("independent", "input") else None,
-                       start=start, unit=(r.unit or None) if not r.is_integer else None,
+                       causality=r.causality, variability=variability, initial=_initial(r),
+                       start=_start(r), unit=(r.unit or None) if not r.is_integer else None,
                        derivative=r.derivative_of)
         out.append(f"    <{tag} {attrs}/>")
     out += ["  </ModelVariables>", "  <ModelStructure>"]
-    for r in table:
-        if r.causality != "output":
-            continue
-        if r.kind == "MF_STATE":
-            deps = str(r.vr)
-        elif r.kind == "MF_COMPUTED":
-            deps = _dependencies(y[r.index], model, table)
-        else:  # a mode changes at events only; it may depend on anything
-            out.append(f"    <Output {_attrs(valueReference=r.vr)}/>")
-            continue
-        out.append(f"    <Output {_attrs(valueReference=r.vr, dependencies=deps)}/>")
-    for r in table:
-        if r.kind == "MF_DERIVATIVE":
-            deps = _dependencies(model.xdot[r.index], model, table)
-            out.append(f"    <ContinuousStateDerivative {_attrs(valueReference=r.vr, dependencies=deps)}/>")
-    for r in table:
-        if r.initial == "calculated" and (r.causality == "output" or r.kind == "MF_DERIVATIVE"):
-            out.append(f"    <InitialUnknown {_attrs(valueReference=r.vr)}/>")
-    for r in table:
-        if r.is_indicator:
-            deps = _dependencies(y[r.index], model, table)
-            out.append(f"    <EventIndicator {_attrs(valueReference=r.vr, dependencies=deps)}/>")
-    out += ["  </ModelStructure>", "</fmiModelDescription>", ""]
-    return "\n".join(out)
+
+    def deps(vrs):
+        return None if vrs is None else " ".join(map(str, vrs))
+
+    out += [f"    <Output {_attrs(valueReference=r.vr, dependencies=deps(d))}/>"
+            for r, d in structure.outputs]
+    out += [f"    <ContinuousStateDerivative {_attrs(valueReference=r.vr, dependencies=deps(d))}/>"
+            for r, d in structure.derivatives]
+    out += [f"    <InitialUnknown {_attrs(valueReference=r.vr)}/>" for r in structure.initial_unknowns]
+    out += [f"    <EventIndicator {_attrs(valueReference=r.vr, dependencies=deps(d))}/>"
+            for r, d in structure.indicators]
+    return out + ["  </ModelStructure>"]
+
+
+def _fmi2(model, identifier, token, table, structure, head) -> list[str]:
+    listed = [r for r in table if r.kind != "MF_TIME"]  # time is implicit in FMI 2
+    index = {r.vr: i + 1 for i, r in enumerate(listed)}  # FMI 2 refers by 1-based position
+    common = dict(modelIdentifier=identifier, canGetAndSetFMUstate="true",
+                  canSerializeFMUstate="true", canNotUseMemoryManagementFunctions="true",
+                  providesDirectionalDerivative="false")
+    out = ["<fmiModelDescription " + _attrs(
+               fmiVersion="2.0", modelName=identifier, guid=token,
+               description=model.component.describe(), generationTool=GENERATION_TOOL,
+               variableNamingConvention="structured",
+               numberOfEventIndicators=len(structure.indicators)) + ">",
+           "  <ModelExchange " + _attrs(**common) + "/>",
+           # inputs are extrapolated inside the step from the flange's own velocity and
+           # acceleration inputs, not from fmi2SetRealInputDerivatives
+           "  <CoSimulation " + _attrs(**common, canHandleVariableCommunicationStepSize="true",
+                                       canInterpolateInputs="false") + "/>",
+           *head, "  <ModelVariables>"]
+    for r in listed:
+        out.append("    <ScalarVariable " + _attrs(
+            name=r.name, valueReference=r.vr, description=r.description or None,
+            causality=r.causality, variability=r.variability, initial=_initial(r)) + ">")
+        if r.is_integer:
+            typed = _attrs(start=_start(r))
+        else:
+            derivative = index[r.derivative_of] if r.derivative_of is not None else None
+            typed = _attrs(start=_start(r), unit=r.unit or None, derivative=derivative)
+        tag = "Integer" if r.is_integer else "Real"
+        out.append(f"      <{tag}{' ' + typed if typed else ''}/>")
+        out.append("    </ScalarVariable>")
+    out += ["  </ModelVariables>", "  <ModelStructure>"]
+
+    def unknowns(element, rows):
+        if not rows:
+            return []
+        lines = [f"    <{element}>"]
+        for r, d in rows:
+            deps = None if d is None else " ".join(str(index[vr]) for vr in d)
+            lines.append(f"      <Unknown {_attrs(index=index[r.vr], dependencies=deps)}/>")
+        return lines + [f"    </{element}>"]
+
+    out += unknowns("Outputs", structure.outputs)
+    out += unknowns("Derivatives", structure.derivatives)
+    out += unknowns("InitialUnknowns", [(r, None) for r in structure.initial_unknowns])
+    return out + ["  </ModelStructure>"]
+
+
+def model_description(model: FlatModel, model_identifier: str, token: str,
+                      stop_time: float, tolerance: float = 1e-8, fmi_version: int = 3) -> str:
+    """The whole modelDescription.xml; `token` is FMI 3's instantiationToken / FMI 2's guid."""
+    if fmi_version not in FMI_VERSIONS:
+        raise ValueError(f"fmi_version must be one of {FMI_VERSIONS}, not {fmi_version!r}")
+    table = variable_table(model)
+    structure = model_structure(model, table)
+    head = _shared_head(model, table, stop_time, tolerance)
+    writer = _fmi2 if fmi_version == 2 else _fmi3
+    body = writer(model, model_identifier, token, table, structure, head)
+    return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>', *body, "</fmiModelDescription>", ""])

@@ -33,6 +33,7 @@ static mf_host host(fmi3InstanceEnvironment env, fmi3LogMessageCallback log)
     h.event_callback = NULL;
     h.float_type = "Float64";
     h.int_type = "Int32";
+    h.token_name = "instantiationToken";
     h.reset_hint = "fmi3Reset or fmi3SetFMUState";
     h.dispatch = dispatch;
     h.callback = (mf_generic_fn)log;
@@ -103,10 +104,13 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
                                        fmi3Float64 tolerance, fmi3Float64 startTime,
                                        fmi3Boolean stopTimeDefined, fmi3Float64 stopTime)
 {
+    mf_status s;
     (void)stopTimeDefined; /* the FMU has no use for the stop time */
     (void)stopTime;
-    return ST(mf_enter_initialization_mode(INST(instance), "fmi3EnterInitializationMode",
-                                           toleranceDefined, tolerance, startTime));
+    s = mf_setup_experiment(INST(instance), "fmi3EnterInitializationMode", toleranceDefined,
+                            tolerance, startTime);
+    if (s != MF_OK) return ST(s);
+    return ST(mf_enter_initialization_mode(INST(instance), "fmi3EnterInitializationMode"));
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)

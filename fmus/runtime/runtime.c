@@ -449,9 +449,10 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
         return NULL;
     }
     if (!token || strcmp(token, model->instantiation_token) != 0) {
-        log_error(&tmp, "%s: instantiationToken '%s' does not match this FMU's '%s' (the "
+        log_error(&tmp, "%s: %s '%s' does not match this FMU's '%s' (the "
                         "modelDescription.xml and the binary come from different builds)",
-                  fn, token ? token : "(null)", model->instantiation_token);
+                  fn, tmp.host.token_name ? tmp.host.token_name : "instantiation token",
+                  token ? token : "(null)", model->instantiation_token);
         return NULL;
     }
     defect = model_defect(model);
@@ -569,11 +570,12 @@ mf_status mf_unsupported(mf_instance *I, const char *fn, const char *what)
     return MF_ERROR;
 }
 
-mf_status mf_enter_initialization_mode(mf_instance *I, const char *fn, int tolerance_defined,
-                                       double tolerance, double start_time)
+mf_status mf_setup_experiment(mf_instance *I, const char *fn, int tolerance_defined,
+                              double tolerance, double start_time)
 {
     if (!I) return MF_ERROR;
     if (!allowed(I, fn, PH_INSTANTIATED, 0)) return MF_ERROR;
+    /* both checked before either is stored, so a refused call changes nothing */
     if (tolerance_defined && !(tolerance > 0.0 && isfinite(tolerance))) {
         log_error(I, "%s: tolerance must be a finite number > 0, got %g", fn, tolerance);
         return MF_ERROR;
@@ -585,6 +587,13 @@ mf_status mf_enter_initialization_mode(mf_instance *I, const char *fn, int toler
     I->rtol = tolerance_defined ? tolerance : DEFAULT_TOLERANCE;
     I->t = I->t_start = I->t_u = start_time;
     invalidate(I);
+    return MF_OK;
+}
+
+mf_status mf_enter_initialization_mode(mf_instance *I, const char *fn)
+{
+    if (!I) return MF_ERROR;
+    if (!allowed(I, fn, PH_INSTANTIATED, 0)) return MF_ERROR;
     I->phase = PH_INIT;
     log_info(I, LOG_EVENTS, "%s: Initialization Mode at t = %.17g, relative tolerance %g", fn,
              I->t, I->rtol);
@@ -1219,6 +1228,25 @@ fail:
     invalidate(I);
     if (last_time) *last_time = I->t;
     return MF_ERROR;
+}
+
+mf_status mf_get_time(mf_instance *I, const char *fn, double *time)
+{
+    if (!I) return MF_ERROR;
+    if (!array_ok(I, fn, time, 1, "value")) return MF_ERROR;
+    *time = I->t;
+    return MF_OK;
+}
+
+mf_status mf_get_terminated(mf_instance *I, const char *fn, int *terminated)
+{
+    const mf_model *m;
+    if (!I) return MF_ERROR;
+    if (!array_ok(I, fn, terminated, 1, "value")) return MF_ERROR;
+    m = I->m;
+    /* the flag itself, not model_terminates(): a status query must not log */
+    *terminated = m->terminate_q >= 0 && m->terminate_q < m->n_q && I->q[m->terminate_q] != 0.0;
+    return MF_OK;
 }
 
 /* ------------------------------------------------------------------------ */

@@ -3,8 +3,8 @@
  *
  * All behaviour lives here: the state machine, value access rules, event
  * iteration, Model-Exchange primitives, the Co-Simulation step with its
- * embedded solver, and FMU-state snapshots. A version adapter (fmi3.c, later
- * fmi2.c) only translates arguments and passes its own function name, used as
+ * embedded solver, and FMU-state snapshots. A version adapter (fmi2.c or
+ * fmi3.c) only translates arguments and passes its own function name, used as
  * the prefix of every log message ("fmi3DoStep: ...").
  *
  * Every function is NULL-safe in the instance (returns MF_ERROR, logs nothing
@@ -37,6 +37,7 @@ typedef void (*mf_event_dispatch)(mf_generic_fn callback, void *environment, dou
 typedef struct {
     const char *float_type;  /* "Float64" / "Real", for messages */
     const char *int_type;    /* "Int32" / "Integer" */
+    const char *token_name;  /* "instantiationToken" / "GUID", for messages */
     const char *reset_hint;  /* what to call to recover, e.g. "fmi3Reset or fmi3SetFMUState" */
     mf_log_dispatch dispatch;
     mf_generic_fn callback;  /* may be NULL: then nothing is logged */
@@ -60,8 +61,13 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
 void mf_free(mf_instance *inst);
 mf_status mf_set_debug_logging(mf_instance *inst, const char *fn, int logging_on,
                                size_t n_categories, const char *const categories[]);
-mf_status mf_enter_initialization_mode(mf_instance *inst, const char *fn, int tolerance_defined,
-                                       double tolerance, double start_time);
+/* The experiment (relative tolerance of the embedded solver, start time) is set in
+   the Instantiated state, before Initialization Mode: FMI 2 has its own call for it
+   (fmi2SetupExperiment), FMI 3 passes it to fmi3EnterInitializationMode, whose
+   adapter calls both. Not calling it keeps the defaults (1e-8, the start of time). */
+mf_status mf_setup_experiment(mf_instance *inst, const char *fn, int tolerance_defined,
+                              double tolerance, double start_time);
+mf_status mf_enter_initialization_mode(mf_instance *inst, const char *fn);
 mf_status mf_exit_initialization_mode(mf_instance *inst, const char *fn);
 mf_status mf_terminate(mf_instance *inst, const char *fn);
 mf_status mf_reset(mf_instance *inst, const char *fn);
@@ -106,6 +112,12 @@ mf_status mf_enter_step_mode(mf_instance *inst, const char *fn);
    asked to terminate, which *terminate reports). */
 mf_status mf_do_step(mf_instance *inst, const char *fn, double t, double h, double *last_time,
                      int *terminate);
+
+/* Where the simulation stands: the time reached (after a step the model ended
+   early, the time it ended at), and whether the model has ended the simulation.
+   For FMI 2's status queries after fmi2DoStep returned fmi2Discard. */
+mf_status mf_get_time(mf_instance *inst, const char *fn, double *time);
+mf_status mf_get_terminated(mf_instance *inst, const char *fn, int *terminated);
 
 /* --- FMU state ----------------------------------------------------------- */
 
