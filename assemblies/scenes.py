@@ -34,7 +34,7 @@ class Scene:
     stop_time: float
     step: float
     tolerance: float
-    record: list[str]
+    record: list[str] | None  # None: every output of every instance
     figures: Callable[[Result, Assembly], list[Figure]]
     plot: list[str] = field(default_factory=list)
     picture: Callable[[Result, str, Path], None] | None = None  # replaces the panel plot
@@ -120,6 +120,10 @@ SCENES.update(AXLE_SCENES)
 from .coin_scenes import COIN_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
 
 SCENES.update(COIN_SCENES)
+
+from .beam_scenes import BEAM_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
+
+SCENES.update(BEAM_SCENES)
 
 
 def scene(name: str) -> Scene:

@@ -1,0 +1,128 @@
+"""Scenes of the assumed-modes cantilever (seed 7.5): a free vibration and a constant tip force.
+
+Their references are the discretised model's own eigen- and static solutions and,
+for comparison, the exact Euler–Bernoulli cantilever (with the tip spring, if any).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.linalg import eigh
+from scipy.optimize import brentq
+
+from components.beam import AssumedModesBeam
+from components.force_sources import ConstantForce
+
+from .assembly import Assembly
+from .result import Result
+from .scenes import Figure, Scene
+
+
+def cantilever_frequencies(EI: float, L: float, m: float, k_tip: float, count: int) -> list[float]:
+    """Exact first `count` natural frequencies [rad/s] of a clamped beam with a tip spring.
+
+    With w = A (cosh βx - cos βx) + B (sinh βx - sin βx) (clamped at 0), the free end's
+    EI w'' = 0 and EI w''' = k_tip w give, for λ = βL and κ = k_tip L³ / EI,
+    λ³ (1 + cosh λ cos λ) - κ (cos λ sinh λ - cosh λ sin λ) = 0, and ω = λ² sqrt(EI / (m L³))
+    with m the total mass. Divided by cosh λ here so that it stays finite.
+    """
+    kappa = k_tip * L**3 / EI
+
+    def equation(lam):
+        return lam**3 * (1 / math.cosh(lam) + math.cos(lam)) - kappa * (
+            math.cos(lam) * math.tanh(lam) - math.sin(lam))
+
+    # every root is a sign change: the roots are about π apart, a grid of π/64 separates them
+    grid = np.arange(1, 64 * (count + 2)) * (math.pi / 64)
+    values = [equation(lam) for lam in grid]
+    roots = [brentq(equation, a, b, xtol=1e-15, rtol=1e-15)
+             for a, b, fa, fb in zip(grid, grid[1:], values, values[1:]) if fa * fb < 0]
+    return [lam**2 * math.sqrt(EI / (m * L**3)) for lam in roots[:count]]
+
+
+def _crossing_times(t: np.ndarray, y: np.ndarray, dy: np.ndarray) -> np.ndarray:
+    """Zero crossings of y, located on the cubic Hermite interpolant of (y, y') per interval."""
+    times = []
+    for k in np.flatnonzero(y[:-1] * y[1:] < 0):
+        h = t[k + 1] - t[k]
+
+        def cubic(s, k=k, h=h):
+            return ((2 * s**3 - 3 * s**2 + 1) * y[k] + (s**3 - 2 * s**2 + s) * h * dy[k]
+                    + (-2 * s**3 + 3 * s**2) * y[k + 1] + (s**3 - s**2) * h * dy[k + 1])
+        times.append(t[k] + h * brentq(cubic, 0.0, 1.0, xtol=1e-15))
+    return np.array(times)
+
+
+def _first_mode_frequency(result: Result, beam: AssumedModesBeam, instance: str) -> float:
+    """ω1 measured from the zero crossings of the first modal coordinate u1ᵀ M a(t).
+
+    Projecting on the first mode removes the higher modes that the tip displacement
+    also carries, so the crossings are those of one pure cosine: their spacing is π/ω1.
+    """
+    mass, stiffness = beam.matrices()
+    _, modes = eigh(stiffness, mass)
+    projector = modes[:, 0] @ mass
+    names = beam.basis().names
+    a = np.array([result[f"{instance}.{n}"] for n in names])
+    a_dot = np.array([result[f"{instance}.{n}_dot"] for n in names])
+    crossings = _crossing_times(result["time"], projector @ a, projector @ a_dot)
+    if len(crossings) < 3:
+        return math.nan
+    half_period = np.polyfit(np.arange(len(crossings)), crossings, 1)[0]
+    return math.pi / half_period
+
+
+# --- beam_free_vibration: seed 7.5 ---------------------------------------------
+def _free_vibration() -> Assembly:
+    asm = Assembly("beam_free_vibration")
+    asm.add("beam", AssumedModesBeam(basis="sine", n_modes=4, w_tip0=0.1))
+    return asm
+
+
+def _free_vibration_figures(result: Result, asm: Assembly) -> list[Figure]:
+    beam = asm.component("beam")
+    p = beam.values
+    measured = _first_mode_frequency(result, beam, "beam")
+    energy = result["beam.E"]
+    return [Figure("omega1", "first natural frequency from the zero crossings [rad/s]",
+                   measured, beam.natural_frequencies()[0]),
+            Figure("omega1_EB", "the same against the exact Euler-Bernoulli beam [rad/s]",
+                   measured, cantilever_frequencies(p["EI"], p["L"], p["m"], p["k_tip"], 1)[0]),
+            Figure("E_drift", "largest relative energy change (undamped: 0) [1]",
+                   float(np.abs(energy - energy[0]).max() / energy[0]), 0.0)]
+
+
+# --- beam_tip_force: seed 7.5 ------------------------------------------------------
+def _tip_force() -> Assembly:
+    asm = Assembly("beam_tip_force")
+    asm.add("beam", AssumedModesBeam(basis="sine", n_modes=4, zeta=0.5))
+    asm.add("load", ConstantForce(F=0.1))
+    asm.connect("load.flange", "beam.tip")
+    return asm
+
+
+def _tip_force_figures(result: Result, asm: Assembly) -> list[Figure]:
+    beam, force = asm.component("beam"), asm.component("load").values["F"]
+    p, settled = beam.values, result["beam.w_tip"][-1]
+    return [Figure("w_static", "settled tip deflection vs the discretised model's [m]",
+                   settled, beam.static_tip_deflection(force)),
+            Figure("w_EB", "settled tip deflection vs F / (3 EI / L^3 + k_tip) [m]",
+                   settled, force / (3 * p["EI"] / p["L"]**3 + p["k_tip"]))]
+
+
+BEAM_SCENES: dict[str, Scene] = {
+    "beam_free_vibration": Scene(
+        "beam_free_vibration",
+        "seed 7.5: cantilever released from its static shape under a tip load, undamped",
+        _free_vibration, stop_time=40.0, step=0.02, tolerance=1e-10,
+        record=None,  # every output: the frequency is read off the coordinates, however many
+        figures=_free_vibration_figures, plot=["beam.w_tip", "beam.slope_tip", "beam.E"]),
+    "beam_tip_force": Scene(
+        "beam_tip_force", "seed 7.5: damped cantilever settling under a constant tip force",
+        _tip_force, stop_time=20.0, step=0.05, tolerance=1e-10,
+        record=["beam.w_tip", "beam.slope_tip", "beam.E", "load.flange.f"],
+        figures=_tip_force_figures, plot=["beam.w_tip", "beam.E"]),
+}
+
+__all__ = ["BEAM_SCENES", "cantilever_frequencies"]
