@@ -78,3 +78,40 @@ def simulate_in_fmpy(component, fmi_type, stop_time, output_interval, tolerance=
     return simulate_fmu(str(path), fmi_type=fmi_type, stop_time=stop_time,
                         output_interval=output_interval, relative_tolerance=tolerance,
                         start_values=starts, output=output, record_events=True)
+
+
+# seed 9.4 with m = k = g = 1, mu_s = mu_k = 0.6, x(0) = 6.55
+FRICTION_DAMPING_TURNING = [6.55, -5.35, 4.15, -2.95, 1.75, -0.55]
+
+
+def exact_friction_damping(t, mu=0.6):
+    """Seed 9.4 by hand: half-cycle n is x = c + (A - c) cos(t - n pi) about c = sign(A) mu,
+    then stuck at the last turning point."""
+    turning = FRICTION_DAMPING_TURNING
+    x = np.full_like(t, turning[-1])
+    for n, amplitude in enumerate(turning[:-1]):
+        centre = math.copysign(mu, amplitude)
+        inside = (t >= n * math.pi) & (t <= (n + 1) * math.pi)
+        x[inside] = centre + (amplitude - centre) * np.cos(t[inside] - n * math.pi)
+    return x
+
+
+def drop_component():
+    """A point mass falling from 2 m; the model ends its run when it reaches the ground."""
+    from components import Component
+    from components.interfaces import Parameter, Profile, State
+
+    class Drop(Component):
+        """Point mass falling from a height; the model ends when it reaches the ground."""
+
+        parameters = (Parameter("g", 9.81, "m/s2", "gravity", min=0.0, min_strict=True),)
+        states = (State("h", 2.0, "m", "height above the ground"),
+                  State("w", 0.0, "m/s", "upward velocity"))
+        profiles = (Profile("free", "no ports"),)
+
+        def equations(self, e):
+            e.residual(e.der.h - e.x.w)
+            e.residual(e.der.w + e.p.g)
+            e.terminate_when(e.x.h, "the mass hit the ground")
+
+    return Drop

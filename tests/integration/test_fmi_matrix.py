@@ -16,21 +16,10 @@ from fmpy.validation import validate_fmu
 from scipy.optimize import brentq
 
 from components import SpringBlock
-from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference
+from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference, exact_friction_damping
 from fmus import build_fmu
 
 VERSIONS = (2, 3)
-TURNING = [6.55, -5.35, 4.15, -2.95, 1.75, -0.55]  # seed 9.4 with mu = 0.6, x0 = 6.55
-
-
-def _exact_damped(t, mu=0.6):
-    """Half-cycle n: x = c + (A - c) cos(t - n pi), c = sign(A) mu; stuck after the last."""
-    x = np.full_like(t, TURNING[-1])
-    for n, amplitude in enumerate(TURNING[:-1]):
-        centre = math.copysign(mu, amplitude)
-        inside = (t >= n * math.pi) & (t <= (n + 1) * math.pi)
-        x[inside] = centre + (amplitude - centre) * np.cos(t[inside] - n * math.pi)
-    return x
 
 
 # exact Coulomb: CS locates events inside doStep to the solver tolerance; ME goes
@@ -54,7 +43,7 @@ def test_friction_damping_in_every_cell(version, fmi_type, law, atol):
                        relative_tolerance=1e-10, start_values={**block.values, **block.starts},
                        output=["x", "v"])
     assert res["time"][-1] == pytest.approx(18.0)
-    assert np.abs(res["x"] - _exact_damped(res["time"])).max() < atol
+    assert np.abs(res["x"] - exact_friction_damping(res["time"])).max() < atol
 
 
 def _stick_slip_exact(t):

@@ -6,23 +6,13 @@ import pytest
 
 from components import SpringBlock
 
-from conftest import simulate_in_fmpy
+from conftest import FRICTION_DAMPING_TURNING, exact_friction_damping, simulate_in_fmpy
 
-TURNING = [6.55, -5.35, 4.15, -2.95, 1.75, -0.55]
+TURNING = FRICTION_DAMPING_TURNING
 
 
 def _damping_block():
     return SpringBlock(m=1, k=1, g=1, mu_k=0.6, mu_s=0.6, x=6.55)
-
-
-def _exact_damped(t, mu=0.6):
-    """Seed 9.4 by hand: half-cycles about +-mu (m = k = g = 1), then stuck at -0.55."""
-    x = np.full_like(t, TURNING[-1])
-    for n, amplitude in enumerate(TURNING[:-1]):
-        centre = math.copysign(mu, amplitude)
-        inside = (t >= n * math.pi) & (t <= (n + 1) * math.pi)
-        x[inside] = centre + (amplitude - centre) * np.cos(t[inside] - n * math.pi)
-    return x
 
 
 @pytest.mark.parametrize("fmi_type, atol", [("CoSimulation", 1e-8), ("ModelExchange", 1e-6)])
@@ -30,7 +20,7 @@ def test_friction_damping_in_fmpy(fmi_type, atol):
     res = simulate_in_fmpy(_damping_block(), fmi_type, stop_time=18.0, output_interval=0.01,
                            output=["x", "v", "mode"])
     t, x = res["time"], res["x"]
-    assert np.abs(x - _exact_damped(t)).max() < atol
+    assert np.abs(x - exact_friction_damping(t)).max() < atol
     late = t > 5 * math.pi + 0.05
     assert np.all(res["mode"][late] == 0) and np.all(res["v"][late] == 0.0)
 

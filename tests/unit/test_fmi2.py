@@ -18,8 +18,8 @@ from fmpy.logging import addLoggerProxy
 from fmpy.validation import validate_fmu
 
 from assemblies.cli import main as mechfmu
-from components import COMPONENTS, Component, SpringBlock
-from components.interfaces import Parameter, Profile, State
+from components import COMPONENTS, SpringBlock
+from conftest import drop_component
 from fmus import build_fmu
 
 
@@ -84,18 +84,7 @@ def test_build_command_takes_the_fmi_version(tmp_path, capsys):
 # --- the low-level API -------------------------------------------------------------
 
 
-class Drop(Component):
-    """Point mass falling from a height; the model ends when it reaches the ground."""
-
-    parameters = (Parameter("g", 9.81, "m/s2", "gravity", min=0.0, min_strict=True),)
-    states = (State("h", 2.0, "m", "height above the ground"),
-              State("w", 0.0, "m/s", "upward velocity"))
-    profiles = (Profile("free", "no ports"),)
-
-    def equations(self, e):
-        e.residual(e.der.h - e.x.w)
-        e.residual(e.der.w + e.p.g)
-        e.terminate_when(e.x.h, "the mass hit the ground")
+Drop = drop_component()
 
 
 T_HIT = math.sqrt(2 * 2.0 / 9.81)  # h = 2 - g t^2 / 2

@@ -4,23 +4,10 @@ import math
 import pytest
 
 from assemblies import Assembly, cosimulate
-from components import Component
-from components.interfaces import Parameter, Profile, State
-from conftest import simulate_in_fmpy
+from conftest import drop_component, simulate_in_fmpy
 
 
-class Drop(Component):
-    """Point mass falling from a height; the model ends when it reaches the ground."""
-
-    parameters = (Parameter("g", 9.81, "m/s2", "gravity", min=0.0, min_strict=True),)
-    states = (State("h", 2.0, "m", "height above the ground"),
-              State("w", 0.0, "m/s", "upward velocity"))
-    profiles = (Profile("free", "no ports"),)
-
-    def equations(self, e):
-        e.residual(e.der.h - e.x.w)
-        e.residual(e.der.w + e.p.g)
-        e.terminate_when(e.x.h, "the mass hit the ground")
+Drop = drop_component()
 
 
 def test_cosimulation_stops_at_the_located_time_with_the_message():
