@@ -27,7 +27,9 @@ from components.component import Component
 from components.dae import flatten
 
 from .codegen import generate_c
+from .documentation import documentation_html
 from .model_description import FMI_VERSIONS, model_description
+from .sources import build_description
 
 RUNTIME_DIR = Path(__file__).parent / "runtime"
 FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
@@ -64,6 +66,12 @@ def _c_files(fmi_version: int) -> list[Path]:
     return core + [RUNTIME_DIR / f"fmi{fmi_version}.c"]
 
 
+def _source_names(fmi_version: int) -> list[str]:
+    """The C files under sources/ that are compiled, in compile order: the generated
+    model.c, then _c_files(); the same list builds our binary, so it cannot drift."""
+    return ["model.c"] + [p.name for p in _c_files(fmi_version)]
+
+
 def _content_hash(*texts: str) -> str:
     h = hashlib.sha256()
     for text in texts:
@@ -90,13 +98,14 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     # the token is derived from the content, so compute both with a placeholder first
     c_source = generate_c(model, identifier, "@TOKEN@")
     xml = model_description(model, identifier, "@TOKEN@", component.default_stop_time, tolerance,
-                            fmi_version=fmi_version)
-    digest = _content_hash(f"fmi{fmi_version}", c_source, xml)
+                            fmi_version=fmi_version, source_files=tuple(_source_names(fmi_version)))
+    html = documentation_html(model, identifier, fmi_version)
+    digest = _content_hash(f"fmi{fmi_version}", c_source, xml, html)
     token = "{%s-%s-%s-%s-%s}" % (digest[:8], digest[8:12], digest[12:16], digest[16:20], digest[20:32])
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     if not cached.exists():
         _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token),
-                 cached, fmi_version)
+                 cached, fmi_version, html)
     if output is None:
         return cached
     output = Path(output)
@@ -105,19 +114,32 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     return output
 
 
-def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version: int) -> None:
+def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version: int,
+             documentation: str = "") -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="mechfmu-build-") as tmp:
         tmp = Path(tmp)
-        (tmp / "model.c").write_text(c_source)
+        # the binary is compiled from the very sources/ folder that the FMU ships
+        sources = tmp / "sources"
+        sources.mkdir()
+        (sources / "model.c").write_text(c_source)
+        for path in _c_files(fmi_version) + sorted(RUNTIME_DIR.glob("*.h")):
+            shutil.copyfile(path, sources / path.name)
+        c_files = _source_names(fmi_version)
         library = tmp / f"{identifier}.so"
-        cmd = (["gcc", *CFLAGS, f"-I{RUNTIME_DIR}", f"-I{FMI_HEADERS}", "-o", str(library),
-                str(tmp / "model.c")] + [str(p) for p in _c_files(fmi_version)] + ["-lm"])
+        cmd = (["gcc", *CFLAGS, f"-I{sources}", f"-I{FMI_HEADERS}", "-o", str(library)]
+               + [str(sources / name) for name in c_files] + ["-lm"])
         result = subprocess.run(cmd, capture_output=True, text=True)
         if result.returncode != 0:
             raise BuildError(f"gcc failed for {identifier}:\n{result.stderr}")
+        if fmi_version == 3:
+            (sources / "buildDescription.xml").write_text(build_description(identifier, c_files))
         partial = target.with_suffix(f".{os.getpid()}.partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
             zf.writestr("modelDescription.xml", xml)
             zf.write(library, f"binaries/{_platform_folder(fmi_version)}/{identifier}.so")
+            for path in sorted(sources.iterdir()):
+                zf.write(path, f"sources/{path.name}")
+            if documentation:
+                zf.writestr("documentation/index.html", documentation)
         partial.replace(target)  # atomic: parallel builds never see half an FMU

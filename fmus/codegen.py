@@ -22,7 +22,7 @@ class ModelVariable:
     """One row of the variable table: what the C runtime and the XML both need."""
     vr: int
     name: str
-    kind: str          # MF_TIME, MF_PARAMETER, MF_STATE, MF_DERIVATIVE, MF_INPUT, MF_COMPUTED, MF_DISCRETE
+    kind: str          # MF_TIME, MF_PARAMETER, MF_STATE, MF_DERIVATIVE, MF_INPUT, MF_COMPUTED, MF_DISCRETE, MF_RUNTIME
     index: int
     unit: str
     description: str
@@ -71,6 +71,12 @@ def variable_table(model: FlatModel) -> list[ModelVariable]:
         add(name=v.name, kind="MF_DISCRETE", index=i, unit="", description=v.description,
             start=None, is_integer=True, causality="output", variability="discrete",
             initial="calculated")
+    # settings of the runtime itself, the same in every FMU, after the model's own
+    # variables so that adding one never renumbers a model's value references
+    add(name="solver", kind="MF_RUNTIME", index=0, unit="",
+        description="Co-Simulation solver: 0 = DOPRI5 (explicit, non-stiff), "
+                    "1 = RODAS3 (Rosenbrock, implicit, for stiff models); unused by Model Exchange",
+        start=0, is_integer=True, causality="parameter", variability="fixed", initial="exact")
     return rows
 
 
@@ -81,6 +87,19 @@ def _derivative_unit(unit: str) -> str:
 def computed_outputs(model: FlatModel) -> ca.SX:
     """The `out` function's result: outputs, then event indicators (exposed as locals)."""
     return ca.vertcat(model.y, model.z)
+
+
+def directional_jacobian(model: FlatModel) -> ca.Function:
+    """``mf_dd``: the dense Jacobian of [xdot; computed outputs] w.r.t. [x; u].
+
+    One dense matrix rather than forward/reverse seeds: n is small for every
+    component, and the runtime then serves directional (J s) and adjoint (s^T J)
+    products for any subset of value references from one evaluation.
+    """
+    unknowns = ca.vertcat(model.xdot, computed_outputs(model))
+    knowns = ca.vertcat(model.x, model.u)
+    jac = ca.densify(ca.jacobian(unknowns, knowns)) if knowns.numel() else ca.SX(unknowns.numel(), 0)
+    return ca.Function("mf_dd", model.args, [jac], ["t", "x", "q", "u", "p"], ["dd"])
 
 
 def _c_string(text: str) -> str:
@@ -100,6 +119,7 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
                                         "casadi_real": "double", "casadi_int": "long long"})
     for key in FUNCTION_ORDER:
         gen.add(functions[key])
+    gen.add(directional_jacobian(model))
     table = variable_table(model)
     n_y = len(model.outputs) + len(model.indicators)
     lines = [gen.dump(), '#include "model.h"', ""]
@@ -124,7 +144,8 @@ const mf_model MF_MODEL = {{
     {model.z.numel()}, {len(model.constraints)},
     {len(table)}, variables, input_derivative, constraints,
     {fn},
-    {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"}
+    {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"},
+    {{mf_dd, mf_dd_work}}
 }};
 """)
     return "\n".join(lines)

@@ -16,6 +16,7 @@ writers below only spell that in their version's syntax:
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
@@ -24,7 +25,7 @@ import casadi as ca
 from components.dae import FlatModel
 
 from .codegen import ModelVariable, computed_outputs, variable_table
-from .units import unit_exponents
+from .units import DEFAULT_DISPLAY_UNIT, DISPLAY_UNITS, unit_exponents
 
 GENERATION_TOOL = "mechfmu 0.1"
 FMI_VERSIONS = (2, 3)
@@ -95,12 +96,38 @@ def _initial(r: ModelVariable) -> str | None:
     return r.initial if r.causality not in ("independent", "input") else None
 
 
+def _range(model: FlatModel, r: ModelVariable) -> tuple[str | None, str | None, str]:
+    """min, max (finite bounds only) and description of a parameter from its declaration.
+
+    FMI's min is inclusive, so a strict bound (m > 0) is declared as min="0" and the
+    description says that 0 itself is excluded: an importer still learns the sign
+    (omitting min would lose it), and the FMU refuses 0 at initialisation with the
+    component's own message.
+    """
+    declared = {p.name: p for p in model.component.parameters}.get(r.name)
+    if r.kind != "MF_PARAMETER" or declared is None:
+        return None, None, r.description
+    lo = repr(float(declared.min)) if math.isfinite(declared.min) else None
+    hi = repr(float(declared.max)) if math.isfinite(declared.max) else None
+    description = r.description
+    if declared.min_strict and lo is not None:
+        description += f" (must be > {declared.min:g}; min is inclusive in FMI, {declared.min:g} is excluded)"
+    return lo, hi, description
+
+
+def _display_unit(r: ModelVariable) -> str | None:
+    return None if r.is_integer else DEFAULT_DISPLAY_UNIT.get(r.unit)
+
+
 def _shared_head(model: FlatModel, table: list[ModelVariable], stop_time: float,
                  tolerance: float) -> list[str]:
     """UnitDefinitions, LogCategories, DefaultExperiment: the same shape in FMI 2 and 3."""
     out = ["  <UnitDefinitions>"]
     for unit in sorted({r.unit for r in table if r.unit}):
-        out.append(f"    <Unit {_attrs(name=unit)}><BaseUnit {_attrs(**unit_exponents(unit))}/></Unit>")
+        display = "".join(f"<DisplayUnit {_attrs(name=n, factor=repr(f))}/>"
+                          for n, f in DISPLAY_UNITS.get(unit, ()))
+        out.append(f"    <Unit {_attrs(name=unit)}><BaseUnit {_attrs(**unit_exponents(unit))}/>"
+                   f"{display}</Unit>")
     out += ["  </UnitDefinitions>", "  <LogCategories>"]
     out += [f"    <Category {_attrs(name=n, description=d)}/>" for n, d in _LOG_CATEGORIES]
     out += ["  </LogCategories>",
@@ -115,19 +142,25 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
                description=model.component.describe(), generationTool=GENERATION_TOOL,
                variableNamingConvention="structured") + ">",
            "  <ModelExchange " + _attrs(modelIdentifier=identifier, canGetAndSetFMUState="true",
-                                        canSerializeFMUState="true") + "/>",
+                                        canSerializeFMUState="true",
+                                        providesDirectionalDerivatives="true",
+                                        providesAdjointDerivatives="true") + "/>",
            "  <CoSimulation " + _attrs(modelIdentifier=identifier,
                                        canHandleVariableCommunicationStepSize="true",
                                        providesIntermediateUpdate="true",
                                        canGetAndSetFMUState="true",
-                                       canSerializeFMUState="true") + "/>",
+                                       canSerializeFMUState="true",
+                                       providesDirectionalDerivatives="true",
+                                       providesAdjointDerivatives="true") + "/>",
            *head, "  <ModelVariables>"]
     for r in table:
         tag = "Int32" if r.is_integer else "Float64"
         variability = r.variability if r.causality != "independent" else "continuous"
-        attrs = _attrs(name=r.name, valueReference=r.vr, description=r.description or None,
+        lo, hi, description = _range(model, r)
+        attrs = _attrs(name=r.name, valueReference=r.vr, description=description or None,
                        causality=r.causality, variability=variability, initial=_initial(r),
                        start=_start(r), unit=(r.unit or None) if not r.is_integer else None,
+                       displayUnit=_display_unit(r), min=lo, max=hi,
                        derivative=r.derivative_of)
         out.append(f"    <{tag} {attrs}/>")
     out += ["  </ModelVariables>", "  <ModelStructure>"]
@@ -145,32 +178,38 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
     return out + ["  </ModelStructure>"]
 
 
-def _fmi2(model, identifier, token, table, structure, head) -> list[str]:
+def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> list[str]:
     listed = [r for r in table if r.kind != "MF_TIME"]  # time is implicit in FMI 2
     index = {r.vr: i + 1 for i, r in enumerate(listed)}  # FMI 2 refers by 1-based position
     common = dict(modelIdentifier=identifier, canGetAndSetFMUstate="true",
                   canSerializeFMUstate="true", canNotUseMemoryManagementFunctions="true",
-                  providesDirectionalDerivative="false")
+                  providesDirectionalDerivative="true")
+    # the C files under sources/, listed per interface as FMI 2 wants (no buildDescription.xml)
+    files = "".join(f"<File {_attrs(name=f)}/>" for f in source_files)
+    sources = f"<SourceFiles>{files}</SourceFiles></" if source_files else None
     out = ["<fmiModelDescription " + _attrs(
                fmiVersion="2.0", modelName=identifier, guid=token,
                description=model.component.describe(), generationTool=GENERATION_TOOL,
                variableNamingConvention="structured",
                numberOfEventIndicators=len(structure.indicators)) + ">",
-           "  <ModelExchange " + _attrs(**common) + "/>",
+           "  <ModelExchange " + _attrs(**common) + (f">{sources}ModelExchange>" if sources else "/>"),
            # inputs are extrapolated inside the step from the flange's own velocity and
            # acceleration inputs, not from fmi2SetRealInputDerivatives
            "  <CoSimulation " + _attrs(**common, canHandleVariableCommunicationStepSize="true",
-                                       canInterpolateInputs="false") + "/>",
+                                       canInterpolateInputs="false")
+           + (f">{sources}CoSimulation>" if sources else "/>"),
            *head, "  <ModelVariables>"]
     for r in listed:
+        lo, hi, description = _range(model, r)
         out.append("    <ScalarVariable " + _attrs(
-            name=r.name, valueReference=r.vr, description=r.description or None,
+            name=r.name, valueReference=r.vr, description=description or None,
             causality=r.causality, variability=r.variability, initial=_initial(r)) + ">")
         if r.is_integer:
             typed = _attrs(start=_start(r))
         else:
             derivative = index[r.derivative_of] if r.derivative_of is not None else None
-            typed = _attrs(start=_start(r), unit=r.unit or None, derivative=derivative)
+            typed = _attrs(start=_start(r), unit=r.unit or None, displayUnit=_display_unit(r),
+                           min=lo, max=hi, derivative=derivative)
         tag = "Integer" if r.is_integer else "Real"
         out.append(f"      <{tag}{' ' + typed if typed else ''}/>")
         out.append("    </ScalarVariable>")
@@ -192,13 +231,20 @@ def _fmi2(model, identifier, token, table, structure, head) -> list[str]:
 
 
 def model_description(model: FlatModel, model_identifier: str, token: str,
-                      stop_time: float, tolerance: float = 1e-8, fmi_version: int = 3) -> str:
-    """The whole modelDescription.xml; `token` is FMI 3's instantiationToken / FMI 2's guid."""
+                      stop_time: float, tolerance: float = 1e-8, fmi_version: int = 3,
+                      source_files: tuple[str, ...] = ()) -> str:
+    """The whole modelDescription.xml; `token` is FMI 3's instantiationToken / FMI 2's guid.
+
+    `source_files` (paths relative to sources/) are listed in FMI 2's <SourceFiles>;
+    FMI 3 lists them in sources/buildDescription.xml instead (fmus.sources).
+    """
     if fmi_version not in FMI_VERSIONS:
         raise ValueError(f"fmi_version must be one of {FMI_VERSIONS}, not {fmi_version!r}")
     table = variable_table(model)
     structure = model_structure(model, table)
     head = _shared_head(model, table, stop_time, tolerance)
-    writer = _fmi2 if fmi_version == 2 else _fmi3
-    body = writer(model, model_identifier, token, table, structure, head)
+    if fmi_version == 2:
+        body = _fmi2(model, model_identifier, token, table, structure, head, source_files)
+    else:
+        body = _fmi3(model, model_identifier, token, table, structure, head)
     return "\n".join(['<?xml version="1.0" encoding="UTF-8"?>', *body, "</fmiModelDescription>", ""])

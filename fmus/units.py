@@ -1,6 +1,8 @@
 """SI units the components use, as FMI UnitDefinitions (exponents of the SI base units)."""
 from __future__ import annotations
 
+import math
+
 # unit -> exponents of (kg, m, s, rad); "1" is dimensionless
 UNITS: dict[str, dict[str, int]] = {
     "1": {},
@@ -29,3 +31,15 @@ def unit_exponents(unit: str) -> dict[str, int]:
     if unit not in UNITS:
         raise ValueError(f"unit '{unit}' is not in fmus/units.py; known units: {', '.join(UNITS)}")
     return UNITS[unit]
+
+
+# Display units FMI lets a tool offer next to the SI unit: value_display = factor * value_SI.
+DISPLAY_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
+    "rad": (("deg", 180.0 / math.pi),),
+    "rad/s": (("deg/s", 180.0 / math.pi), ("rpm", 30.0 / math.pi)),
+    "rad/s2": (("deg/s2", 180.0 / math.pi),),
+}
+
+# The display unit a variable of this unit is shown in by default: angles read best in
+# degrees; rates stay SI (rpm only suits spinning parts, and a tool can still offer it).
+DEFAULT_DISPLAY_UNIT: dict[str, str] = {"rad": "deg"}

@@ -205,11 +205,10 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
                                         size_t nKnown, const fmi2Real dvKnown[],
                                         fmi2Real dvUnknown[])
 {
-    (void)vUnknown_ref; (void)nUnknown; (void)vKnown_ref; (void)nKnown;
-    (void)dvKnown; (void)dvUnknown;
-    /* modelDescription.xml says providesDirectionalDerivative="false" */
-    return ST(mf_unsupported(INST(c), "fmi2GetDirectionalDerivative",
-                             "directional derivatives are not provided yet"));
+    /* dvUnknown = J dvKnown: one seed per known, one result per unknown */
+    return ST(mf_partial_derivatives(INST(c), "fmi2GetDirectionalDerivative", 0, vUnknown_ref,
+                                     nUnknown, vKnown_ref, nKnown, dvKnown, nKnown, dvUnknown,
+                                     nUnknown));
 }
 
 /* --- Model Exchange -------------------------------------------------------- */

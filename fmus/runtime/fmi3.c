@@ -397,10 +397,9 @@ fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueRe
                                         size_t nKnowns, const fmi3Float64 seed[], size_t nSeed,
                                         fmi3Float64 sensitivity[], size_t nSensitivity)
 {
-    (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns;
-    (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
-    return ST(mf_unsupported(INST(instance), "fmi3GetDirectionalDerivative",
-                             "directional derivatives are not provided yet"));
+    return ST(mf_partial_derivatives(INST(instance), "fmi3GetDirectionalDerivative", 0, unknowns,
+                                     nUnknowns, knowns, nKnowns, seed, nSeed, sensitivity,
+                                     nSensitivity));
 }
 
 fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[],
@@ -408,9 +407,9 @@ fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueRefere
                                     size_t nKnowns, const fmi3Float64 seed[], size_t nSeed,
                                     fmi3Float64 sensitivity[], size_t nSensitivity)
 {
-    (void)unknowns; (void)nUnknowns; (void)knowns; (void)nKnowns;
-    (void)seed; (void)nSeed; (void)sensitivity; (void)nSensitivity;
-    return ST(mf_unsupported(INST(instance), "fmi3GetAdjointDerivative", "adjoint derivatives are not provided"));
+    return ST(mf_partial_derivatives(INST(instance), "fmi3GetAdjointDerivative", 1, unknowns,
+                                     nUnknowns, knowns, nKnowns, seed, nSeed, sensitivity,
+                                     nSensitivity));
 }
 
 /* --- configuration, clocks --------------------------------------------------- */

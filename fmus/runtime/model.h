@@ -29,7 +29,10 @@ typedef enum {
     MF_DERIVATIVE, /* der(x[index]); computed */
     MF_INPUT,      /* u[index] */
     MF_COMPUTED,   /* y[index]; outputs and locals computed by `out` */
-    MF_DISCRETE    /* q[index]; changed only at events */
+    MF_DISCRETE,   /* q[index]; changed only at events */
+    MF_RUNTIME     /* a setting of the runtime, not of the model; index 0: the
+                      Co-Simulation solver (0 DOPRI5, 1 RODAS3). After every model
+                      variable, so the model's value references do not move */
 } mf_kind;
 
 typedef struct {
@@ -65,6 +68,9 @@ typedef struct {
        fell flat), or -1; the message says why, the runtime adds the time */
     int terminate_q;
     const char *terminate_message;
+    /* d [xdot; y] / d [x; u]: the dense (n_x + n_y) x (n_x + n_u) Jacobian, column-major,
+       for fmi2/3GetDirectionalDerivative and fmi3GetAdjointDerivative */
+    mf_function dd;
 } mf_model;
 
 extern const mf_model MF_MODEL;

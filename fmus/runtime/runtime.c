@@ -3,6 +3,7 @@
  */
 #include "runtime.h"
 #include "solver.h"
+#include "solver_implicit.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -61,12 +62,15 @@ struct mf_instance {
 
     /* scratch */
     double *ue, *x_new, *q_new, *x_tmp, *z_tmp, *z_hit, *g;
+    double *dd; /* the (n_x + n_y) x (n_x + n_u) Jacobian of mf_dd */
     const double **arg;
     double **res;
     mf_int *iw;
     double *w;
 
-    mf_dopri solver;
+    mf_dopri solver;  /* DOPRI5, explicit */
+    mf_ros ros;       /* RODAS3, implicit */
+    int method;       /* the `solver` parameter: which of them Co-Simulation uses */
 };
 
 /* ------------------------------------------------------------------------ */
@@ -194,6 +198,20 @@ static const char *name_of(const mf_instance *I, mf_kind kind, int index)
 /* model evaluation                                                          */
 
 static void invalidate(mf_instance *I) { I->y_valid = I->xdot_valid = I->z_valid = 0; }
+
+/* x or the right-hand side jumped: each solver's stored f(t, x) is stale (both,
+   so that a later change of method never starts from a stale slope) */
+static void solvers_restart(mf_instance *I)
+{
+    mf_dopri_restart(&I->solver);
+    mf_ros_restart(&I->ros);
+}
+
+static void solvers_reset(mf_instance *I)
+{
+    mf_dopri_reset(&I->solver);
+    mf_ros_reset(&I->ros);
+}
 
 /* Inputs at time t. Co-Simulation extrapolates each input by its Taylor chain
    (s -> v -> a) from the base time t_u; Model Exchange uses them as set. */
@@ -364,6 +382,7 @@ static void set_start_values(mf_instance *I)
         case MF_STATE: I->x[v->index] = v->start; break;
         case MF_INPUT: I->u[v->index] = v->start; break;
         case MF_DISCRETE: I->q[v->index] = v->start; break;
+        case MF_RUNTIME: I->method = (int)v->start; break;
         default: break;
         }
     }
@@ -376,7 +395,7 @@ static void set_start_values(mf_instance *I)
     I->phase = PH_INSTANTIATED;
     if (m->n_z) memset(I->z_prev, 0, (size_t)m->n_z * sizeof(double));
     invalidate(I);
-    mf_dopri_reset(&I->solver);
+    solvers_reset(I);
 }
 
 static int kind_size(const mf_model *m, mf_kind kind)
@@ -388,6 +407,7 @@ static int kind_size(const mf_model *m, mf_kind kind)
     case MF_INPUT: return m->n_u;
     case MF_COMPUTED: return m->n_y;
     case MF_DISCRETE: return m->n_q;
+    case MF_RUNTIME: return 1; /* index 0: solver */
     default: return -1;
     }
 }
@@ -396,8 +416,8 @@ static int kind_size(const mf_model *m, mf_kind kind)
 static const char *model_defect(const mf_model *m)
 {
     int i;
-    const mf_function *fs[6];
-    int n_out[6];
+    const mf_function *fs[7];
+    int n_out[7];
     if (m->n_x < 0 || m->n_q < 0 || m->n_u < 0 || m->n_p < 0 || m->n_y < 0 || m->n_z < 0 ||
         m->n_c < 0)
         return "negative size";
@@ -420,7 +440,8 @@ static const char *model_defect(const mf_model *m)
     fs[3] = &m->jump; n_out[3] = m->n_x + m->n_q;
     fs[4] = &m->check; n_out[4] = m->n_c;
     fs[5] = &m->jac; n_out[5] = m->n_x;
-    for (i = 0; i < 6; i++) {
+    fs[6] = &m->dd; n_out[6] = (m->n_x + m->n_y) * (m->n_x + m->n_u);
+    for (i = 0; i < 7; i++) {
         if (n_out[i] > 0 && !fs[i]->eval) return "a model function with outputs is missing";
         if (fs[i]->eval && !fs[i]->work) return "a model function has no work-size function";
     }
@@ -435,7 +456,7 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
 {
     mf_instance tmp, *I;
     const char *defect;
-    const mf_function *fs[6];
+    const mf_function *fs[7];
     mf_int sz_arg = 5, sz_res = 2, sz_iw = 0, sz_w = 0;
     int i;
 
@@ -488,14 +509,16 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->z_tmp = dvec(model->n_z);
     I->z_hit = dvec(model->n_z);
     I->g = dvec(model->n_c);
+    I->dd = dvec((model->n_x + model->n_y) * (model->n_x + model->n_u));
     if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev || !I->ue ||
-        !I->x_new || !I->q_new || !I->x_tmp || !I->z_tmp || !I->z_hit || !I->g)
+        !I->x_new || !I->q_new || !I->x_tmp || !I->z_tmp || !I->z_hit || !I->g || !I->dd)
         goto oom;
 
     /* one set of work buffers, large enough for every model function */
     fs[0] = &model->ode; fs[1] = &model->out; fs[2] = &model->zc;
     fs[3] = &model->jump; fs[4] = &model->check; fs[5] = &model->jac;
-    for (i = 0; i < 6; i++) {
+    fs[6] = &model->dd;
+    for (i = 0; i < 7; i++) {
         mf_int a = 0, r = 0, iw = 0, w = 0;
         if (!fs[i]->eval) continue;
         if (fs[i]->work(&a, &r, &iw, &w)) {
@@ -514,6 +537,7 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->w = (double *)calloc((size_t)(sz_w > 0 ? sz_w : 1), sizeof(double));
     if (!I->arg || !I->res || !I->iw || !I->w) goto oom;
     if (mf_dopri_alloc(&I->solver, model->n_x)) goto oom;
+    if (mf_ros_alloc(&I->ros, model->n_x)) goto oom;
 
     set_start_values(I);
     return I;
@@ -528,10 +552,11 @@ void mf_free(mf_instance *I)
 {
     if (!I) return;
     mf_dopri_free(&I->solver);
+    mf_ros_free(&I->ros);
     free(I->name);
     free(I->x); free(I->q); free(I->p); free(I->u); free(I->y); free(I->xdot); free(I->z);
     free(I->z_prev); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
-    free(I->z_tmp); free(I->z_hit); free(I->g);
+    free(I->z_tmp); free(I->z_hit); free(I->g); free(I->dd);
     free((void *)I->arg); free(I->res); free(I->iw); free(I->w);
     free(I);
 }
@@ -633,7 +658,7 @@ mf_status mf_exit_initialization_mode(mf_instance *I, const char *fn)
         return st;
     }
     I->inputs_changed = 0;
-    mf_dopri_reset(&I->solver);
+    solvers_reset(I);
     if (I->iface == MF_CO_SIMULATION && !I->event_mode_used) I->phase = PH_STEP;
     else I->phase = PH_EVENT;
     log_info(I, LOG_EVENTS, "%s: initialised at t = %.17g; now in %s", fn, I->t,
@@ -688,6 +713,7 @@ static int get_value(mf_instance *I, const char *fn, const mf_variable *v, doubl
     case MF_STATE: *out = I->x[v->index]; return 1;
     case MF_INPUT: *out = I->u[v->index]; return 1;
     case MF_DISCRETE: *out = I->q[v->index]; return 1;
+    case MF_RUNTIME: *out = I->method; return 1;
     case MF_DERIVATIVE:
         if (!update_xdot(I, fn)) return 0;
         *out = I->xdot[v->index];
@@ -708,6 +734,7 @@ static int settable(mf_instance *I, const char *fn, const mf_variable *v, uint32
     case MF_PARAMETER:
     case MF_STATE:
     case MF_DISCRETE:
+    case MF_RUNTIME:
         mask = PH_INSTANTIATED | PH_INIT;
         when = "only before initialisation ends (Instantiated state or Initialization Mode)";
         break;
@@ -729,6 +756,11 @@ static int settable(mf_instance *I, const char *fn, const mf_variable *v, uint32
         log_error(I, "%s: value %g for variable '%s' is not finite; not set", fn, val, v->name);
         return 0;
     }
+    if (v->kind == MF_RUNTIME && !(val == 0.0 || val == 1.0)) {
+        log_error(I, "%s: '%s' must be 0 (DOPRI5, explicit) or 1 (RODAS3, implicit), got %g",
+                  fn, v->name, val);
+        return 0;
+    }
     return 1;
 }
 
@@ -738,9 +770,13 @@ static void store_value(mf_instance *I, const mf_variable *v, double val)
     case MF_PARAMETER: I->p[v->index] = val; break;
     case MF_STATE:
         I->x[v->index] = val;
-        mf_dopri_restart(&I->solver);
+        solvers_restart(I);
         break;
     case MF_DISCRETE: I->q[v->index] = val; break;
+    case MF_RUNTIME:
+        I->method = (int)val;
+        solvers_reset(I);
+        break;
     case MF_INPUT:
         if (I->iface == MF_CO_SIMULATION && I->t != I->t_u) {
             /* move the extrapolation base to now, so that inputs not set again
@@ -883,7 +919,7 @@ mf_status mf_update_discrete_states(mf_instance *I, const char *fn, int *states_
         I->failed = 1;
         return st;
     }
-    mf_dopri_restart(&I->solver);
+    solvers_restart(I);
     if (states_changed) *states_changed = changed;
     if (terminate) *terminate = model_terminates(I, fn);
     return MF_OK;
@@ -1039,10 +1075,46 @@ static int rhs(void *ctx, double t, const double *x, double *xdot)
     return call(I, &I->m->ode, t, x, I->q, I->ue, xdot, NULL);
 }
 
+static int jacobian(void *ctx, double t, const double *x, double *jac)
+{
+    mf_instance *I = (mf_instance *)ctx;
+    inputs_at(I, t, I->ue);
+    return call(I, &I->m->jac, t, x, I->q, I->ue, jac, NULL);
+}
+
+/* The selected method's step, in the explicit solver's result codes (the two
+   enums share their meaning). Both leave (t, x) unchanged on failure. */
+static mf_dopri_result solver_step(mf_instance *I, double t_end, double h_initial)
+{
+    if (I->method == 1) {
+        switch (mf_ros_step(&I->ros, rhs, jacobian, I, &I->t, I->x, t_end, I->rtol, h_initial)) {
+        case MF_ROS_OK: return MF_DOPRI_OK;
+        case MF_ROS_RHS_FAILED: return MF_DOPRI_RHS_FAILED;
+        default: return MF_DOPRI_STEP_UNDERFLOW;
+        }
+    }
+    return mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h_initial);
+}
+
+/* the selected method's dense output over its last accepted step */
+static void solver_dense(const mf_instance *I, double t, double *x)
+{
+    if (I->method == 1) mf_ros_dense(&I->ros, t, x);
+    else mf_dopri_dense(&I->solver, t, x);
+}
+
+/* work counters of both methods, summed: only the selected one moves in a step */
+static void solver_work(const mf_instance *I, long *n_rhs, long *n_rejected, long *n_jac)
+{
+    *n_rhs = I->solver.n_rhs + I->ros.n_rhs;
+    *n_rejected = I->solver.n_rejected + I->ros.n_rejected;
+    *n_jac = I->ros.n_jac;
+}
+
 /* indicators at time t inside the last accepted step */
 static int z_inside(mf_instance *I, double t, double *z)
 {
-    mf_dopri_dense(&I->solver, t, I->x_tmp);
+    solver_dense(I, t, I->x_tmp);
     inputs_at(I, t, I->ue);
     return call(I, &I->m->zc, t, I->x_tmp, I->q, I->ue, z, NULL);
 }
@@ -1119,7 +1191,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
 {
     const mf_model *m;
     double t_end;
-    long steps = 0, events = 0, rhs0, rej0;
+    long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1;
     int i;
 
     if (terminate) *terminate = 0;
@@ -1145,15 +1217,14 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         return MF_OK; /* stays where the model ended it */
     }
     t_end = I->t + h;
-    rhs0 = I->solver.n_rhs;
-    rej0 = I->solver.n_rejected;
+    solver_work(I, &rhs0, &rej0, &jac0);
 
     if (I->inputs_changed) {
         /* the importer may have moved an input discontinuously across an
            indicator's zero: that is an event at the communication point */
         int cross = 0;
         I->inputs_changed = 0;
-        mf_dopri_restart(&I->solver);
+        solvers_restart(I);
         if (!update_z(I, fn)) goto fail;
         for (i = 0; i < m->n_z; i++)
             if (crossed(I->z_prev[i], I->z[i])) cross = 1;
@@ -1175,7 +1246,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
                       t_end);
             goto fail;
         }
-        r = mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h);
+        r = solver_step(I, t_end, h);
         if (r != MF_DOPRI_OK) {
             if (r == MF_DOPRI_RHS_FAILED)
                 log_error(I, "%s: the model's state derivatives are not finite (or could not "
@@ -1201,11 +1272,11 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
                          "event between t = %.17g and %.17g", fn, t_old, I->t);
             goto fail;
         }
-        mf_dopri_dense(&I->solver, t_event, I->x);
+        solver_dense(I, t_event, I->x);
         I->t = t_event;
         invalidate(I);
         if (event_iteration(I, fn, NULL) != MF_OK) goto fail;
-        mf_dopri_restart(&I->solver);
+        solvers_restart(I);
         events++;
         if (I->host.event_dispatch && I->host.event_callback)
             I->host.event_dispatch(I->host.event_callback, I->host.environment, I->t);
@@ -1217,9 +1288,11 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     }
     I->t = t_end;
     invalidate(I);
-    log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %ld steps, %ld rejected, %ld derivative "
-                            "evaluations, %ld events", fn, t, t_end, steps,
-             I->solver.n_rejected - rej0, I->solver.n_rhs - rhs0, events);
+    solver_work(I, &rhs1, &rej1, &jac1);
+    log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %s: %ld steps, %ld rejected, %ld derivative "
+                            "evaluations, %ld Jacobians, %ld events", fn, t, t_end,
+             I->method == 1 ? "RODAS3" : "DOPRI5", steps, rej1 - rej0, rhs1 - rhs0,
+             jac1 - jac0, events);
     if (last_time) *last_time = t_end;
     return MF_OK;
 
@@ -1250,11 +1323,114 @@ mf_status mf_get_terminated(mf_instance *I, const char *fn, int *terminated)
 }
 
 /* ------------------------------------------------------------------------ */
+/* partial derivatives                                                       */
+
+/* The row of an unknown in the mf_dd Jacobian [xdot; y] x [x; u]; a state output is
+   not a row there (d x_i / d [x; u] is a unit row), so state i is coded -1 - i. */
+static int dd_row(const mf_instance *I, const char *fn, uint32_t vr, int *row)
+{
+    const mf_variable *v = lookup(I, fn, vr, 0);
+    if (!v) return 0;
+    switch (v->kind) {
+    case MF_DERIVATIVE: *row = v->index; return 1;
+    case MF_COMPUTED: *row = I->m->n_x + v->index; return 1;
+    case MF_STATE: *row = -1 - v->index; return 1;
+    default:
+        log_error(I, "%s: unknown '%s' (value reference %lu) is not a state derivative, an "
+                     "output or a state; only those have partial derivatives here", fn, v->name,
+                  (unsigned long)vr);
+        return 0;
+    }
+}
+
+/* The column of a known: states, then inputs. Parameters are not knowns here: they
+   are fixed after initialisation and the Jacobian is not generated for them. */
+static int dd_col(const mf_instance *I, const char *fn, uint32_t vr, int *col)
+{
+    const mf_variable *v = lookup(I, fn, vr, 0);
+    if (!v) return 0;
+    switch (v->kind) {
+    case MF_STATE: *col = v->index; return 1;
+    case MF_INPUT: *col = I->m->n_x + v->index; return 1;
+    default:
+        log_error(I, "%s: known '%s' (value reference %lu) is not a continuous state or an "
+                     "input; derivatives are provided with respect to those only", fn, v->name,
+                  (unsigned long)vr);
+        return 0;
+    }
+}
+
+static double dd_entry(const mf_instance *I, int row, int col)
+{
+    if (row < 0) return col == -1 - row ? 1.0 : 0.0;
+    return I->dd[row + (size_t)col * (size_t)(I->m->n_x + I->m->n_y)];
+}
+
+mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
+                                 const uint32_t unknowns[], size_t n_unknowns,
+                                 const uint32_t knowns[], size_t n_knowns, const double seed[],
+                                 size_t n_seed, double sensitivity[], size_t n_sensitivity)
+{
+    const mf_model *m;
+    size_t i, j, rows_needed, cols_needed;
+    int r, c;
+    if (!I) return MF_ERROR;
+    m = I->m;
+    if (!allowed(I, fn, PH_INIT | PH_EVENT | PH_CONT | PH_STEP | PH_TERMINATED, 0)) return MF_ERROR;
+    if (!array_ok(I, fn, unknowns, n_unknowns, "unknowns") ||
+        !array_ok(I, fn, knowns, n_knowns, "knowns") || !array_ok(I, fn, seed, n_seed, "seed") ||
+        !array_ok(I, fn, sensitivity, n_sensitivity, "sensitivity"))
+        return MF_ERROR;
+    /* every variable is a scalar: a seed per known (directional) or per unknown (adjoint) */
+    rows_needed = adjoint ? n_knowns : n_unknowns;
+    cols_needed = adjoint ? n_unknowns : n_knowns;
+    if (n_seed != cols_needed || n_sensitivity != rows_needed) {
+        log_error(I, "%s: nSeed (%lu) must equal the number of %s (%lu) and nSensitivity (%lu) "
+                     "that of the %s (%lu); every variable here is a scalar", fn,
+                  (unsigned long)n_seed, adjoint ? "unknowns" : "knowns",
+                  (unsigned long)cols_needed, (unsigned long)n_sensitivity,
+                  adjoint ? "knowns" : "unknowns", (unsigned long)rows_needed);
+        return MF_ERROR;
+    }
+    for (i = 0; i < n_unknowns; i++) if (!dd_row(I, fn, unknowns[i], &r)) return MF_ERROR;
+    for (j = 0; j < n_knowns; j++) if (!dd_col(I, fn, knowns[j], &c)) return MF_ERROR;
+    for (j = 0; j < n_seed; j++)
+        if (!isfinite(seed[j])) {
+            log_error(I, "%s: seed[%lu] = %g is not finite", fn, (unsigned long)j, seed[j]);
+            return MF_ERROR;
+        }
+    if ((m->n_x + m->n_y) * (m->n_x + m->n_u) > 0) {
+        inputs_at(I, I->t, I->ue);
+        if (call(I, &m->dd, I->t, I->x, I->q, I->ue, I->dd, NULL)) {
+            log_error(I, "%s: evaluation of the Jacobian failed at t = %.17g", fn, I->t);
+            return MF_ERROR;
+        }
+    }
+    for (i = 0; i < n_sensitivity; i++) sensitivity[i] = 0.0;
+    for (i = 0; i < n_unknowns; i++) {
+        dd_row(I, fn, unknowns[i], &r);
+        for (j = 0; j < n_knowns; j++) {
+            dd_col(I, fn, knowns[j], &c);
+            if (adjoint) sensitivity[j] += seed[i] * dd_entry(I, r, c);
+            else sensitivity[i] += dd_entry(I, r, c) * seed[j];
+        }
+    }
+    for (i = 0; i < n_sensitivity; i++)
+        if (!isfinite(sensitivity[i])) {
+            log_error(I, "%s: sensitivity[%lu] is not finite at t = %.17g (the model's partial "
+                         "derivatives are undefined here)", fn, (unsigned long)i, I->t);
+            return MF_ERROR;
+        }
+    return MF_OK;
+}
+
+/* ------------------------------------------------------------------------ */
 /* FMU state                                                                 */
 
 /* A snapshot is everything dynamic, as one flat array of doubles. */
 #define SNAP_MAGIC 0x4d465331u /* "MFS1" */
-enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED, S_HEADER };
+enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED,
+       S_METHOD, S_HGUESS_ROS, S_HEADER };
 
 typedef struct {
     unsigned magic;
@@ -1328,6 +1504,8 @@ mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
     d[S_PHASE] = I->phase;
     d[S_INCHANGED] = I->inputs_changed;
     d[S_FAILED] = I->failed;
+    d[S_METHOD] = I->method;
+    d[S_HGUESS_ROS] = I->ros.h_guess;
     d += S_HEADER;
     copy_block(d, I->x, m->n_x); d += m->n_x;
     copy_block(d, I->q, m->n_q); d += m->n_q;
@@ -1355,16 +1533,18 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     I->phase = (int)d[S_PHASE];
     I->inputs_changed = (int)d[S_INCHANGED];
     I->failed = (int)d[S_FAILED];
+    I->method = d[S_METHOD] == 1.0 ? 1 : 0;
     d += S_HEADER;
     copy_block(I->x, d, m->n_x); d += m->n_x;
     copy_block(I->q, d, m->n_q); d += m->n_q;
     copy_block(I->u, d, m->n_u); d += m->n_u;
     copy_block(I->p, d, m->n_p); d += m->n_p;
     copy_block(I->z_prev, d, m->n_z);
-    mf_dopri_reset(&I->solver);
+    solvers_reset(I);
     /* the controller history too, so that a restored run repeats bit for bit */
     I->solver.h_guess = s->d[S_HGUESS];
     I->solver.facold = s->d[S_FACOLD];
+    I->ros.h_guess = s->d[S_HGUESS_ROS];
     invalidate(I);
     return MF_OK;
 }

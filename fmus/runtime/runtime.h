@@ -119,6 +119,18 @@ mf_status mf_do_step(mf_instance *inst, const char *fn, double t, double h, doub
 mf_status mf_get_time(mf_instance *inst, const char *fn, double *time);
 mf_status mf_get_terminated(mf_instance *inst, const char *fn, int *terminated);
 
+/* --- partial derivatives ------------------------------------------------- */
+
+/* Seed-weighted products of the Jacobian d unknowns / d knowns at the current point.
+   Unknowns: state derivatives, computed variables (outputs, event indicators) and
+   states; knowns: continuous states and inputs (anything else is refused with a log).
+   adjoint = 0: sensitivity = J seed (nSeed = nKnowns, nSensitivity = nUnknowns);
+   adjoint = 1: sensitivity = J^T seed (nSeed = nUnknowns, nSensitivity = nKnowns). */
+mf_status mf_partial_derivatives(mf_instance *inst, const char *fn, int adjoint,
+                                 const uint32_t unknowns[], size_t n_unknowns,
+                                 const uint32_t knowns[], size_t n_knowns, const double seed[],
+                                 size_t n_seed, double sensitivity[], size_t n_sensitivity);
+
 /* --- FMU state ----------------------------------------------------------- */
 
 mf_status mf_get_state(mf_instance *inst, const char *fn, void **state);
