@@ -148,6 +148,7 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
            "  <CoSimulation " + _attrs(modelIdentifier=identifier,
                                        canHandleVariableCommunicationStepSize="true",
                                        providesIntermediateUpdate="true",
+                                       mightReturnEarlyFromDoStep="true",
                                        canGetAndSetFMUState="true",
                                        canSerializeFMUState="true",
                                        providesDirectionalDerivatives="true",

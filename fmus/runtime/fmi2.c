@@ -36,7 +36,8 @@ static mf_host host(const fmi2CallbackFunctions *functions)
     h.dispatch = dispatch;
     h.callback = functions ? (mf_generic_fn)functions->logger : NULL;
     h.environment = functions ? functions->componentEnvironment : NULL;
-    h.event_dispatch = NULL; /* FMI 2 has no intermediate update */
+    h.event_dispatch = NULL; /* FMI 2 has no intermediate update, nor early return */
+    h.early_return_allowed = 0;
     h.event_callback = NULL;
     return h;
 }
@@ -311,7 +312,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
     mf_status s;
     (void)noSetFMUStatePriorToCurrentPoint;
     s = mf_do_step(INST(c), "fmi2DoStep", currentCommunicationPoint, communicationStepSize,
-                   &reached, &terminate);
+                   &reached, &terminate, NULL);
     /* FMI 2 reports a model that ended the run as Discard; the master then asks
        fmi2GetBooleanStatus(fmi2Terminated) and fmi2GetRealStatus(fmi2LastSuccessfulTime) */
     if (s == MF_OK && terminate) return fmi2Discard;

@@ -31,6 +31,7 @@ static mf_host host(fmi3InstanceEnvironment env, fmi3LogMessageCallback log)
     mf_host h;
     h.event_dispatch = event_dispatch;
     h.event_callback = NULL;
+    h.early_return_allowed = 0;
     h.float_type = "Float64";
     h.int_type = "Int32";
     h.token_name = "instantiationToken";
@@ -75,7 +76,7 @@ fmi3Instance fmi3InstantiateCoSimulation(
     mf_host h = host(instanceEnvironment, logMessage);
     (void)resourcePath;
     (void)visible;
-    (void)earlyReturnAllowed; /* never returns early */
+    h.early_return_allowed = earlyReturnAllowed;
     (void)requiredIntermediateVariables;
     (void)nRequiredIntermediateVariables;
     h.event_callback = (mf_generic_fn)intermediateUpdate;
@@ -614,15 +615,15 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
                       fmi3Boolean *earlyReturn, fmi3Float64 *lastSuccessfulTime)
 {
     double reached = currentCommunicationPoint;
-    int terminate = 0;
+    int terminate = 0, early = 0;
     mf_status s;
     (void)noSetFMUStatePriorToCurrentPoint;
     s = mf_do_step(INST(instance), "fmi3DoStep", currentCommunicationPoint, communicationStepSize,
-                   &reached, &terminate);
-    /* events are handled inside the step */
+                   &reached, &terminate, &early);
+    /* events are handled inside the step, also when it returns early at one */
     if (eventHandlingNeeded) *eventHandlingNeeded = fmi3False;
     if (terminateSimulation) *terminateSimulation = terminate != 0;
-    if (earlyReturn) *earlyReturn = fmi3False;
+    if (earlyReturn) *earlyReturn = early != 0;
     if (lastSuccessfulTime) *lastSuccessfulTime = reached;
     return ST(s);
 }

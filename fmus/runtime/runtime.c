@@ -1187,7 +1187,7 @@ static int locate_earliest(mf_instance *I, double ta, double tb, const double *z
 }
 
 mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time,
-                     int *terminate)
+                     int *terminate, int *early_return)
 {
     const mf_model *m;
     double t_end;
@@ -1195,6 +1195,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     int i;
 
     if (terminate) *terminate = 0;
+    if (early_return) *early_return = 0;
     if (!I) return MF_ERROR;
     m = I->m;
     if (last_time) *last_time = I->t;
@@ -1282,6 +1283,12 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
             I->host.event_dispatch(I->host.event_callback, I->host.environment, I->t);
         if (model_terminates(I, fn)) {
             if (terminate) *terminate = 1;
+            if (last_time) *last_time = I->t;
+            return MF_OK;
+        }
+        if (I->host.early_return_allowed && early_return && I->t < t_end) {
+            /* the importer wants to see every event as a communication point */
+            *early_return = 1;
             if (last_time) *last_time = I->t;
             return MF_OK;
         }

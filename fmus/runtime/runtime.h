@@ -44,6 +44,7 @@ typedef struct {
     void *environment;
     mf_event_dispatch event_dispatch;  /* may be NULL (FMI 2 has no such callback) */
     mf_generic_fn event_callback;      /* may be NULL: then events are not reported */
+    int early_return_allowed;          /* Co-Simulation may stop a step at its first event */
 } mf_host;
 
 typedef struct mf_instance mf_instance;
@@ -109,9 +110,10 @@ mf_status mf_get_number_of_event_indicators(mf_instance *inst, const char *fn, s
 
 mf_status mf_enter_step_mode(mf_instance *inst, const char *fn);
 /* *last_time: the time actually reached (t + h on success, earlier when the model
-   asked to terminate, which *terminate reports). */
+   asked to terminate, which *terminate reports, or when the importer allowed early
+   return and an event happened, which *early_return reports). */
 mf_status mf_do_step(mf_instance *inst, const char *fn, double t, double h, double *last_time,
-                     int *terminate);
+                     int *terminate, int *early_return);
 
 /* Where the simulation stands: the time reached (after a step the model ended
    early, the time it ended at), and whether the model has ended the simulation.
