@@ -3,15 +3,19 @@
 Connections follow Modelica: a flange connects to a flange of the same domain,
 across variables are equal and flows sum to zero. For co-simulation one side of
 each flange connection computes the motion (its port is ``force`` in its profile)
-and the other the force (``motion``); an assembly checks this when connecting.
+and the other the force (``motion``). ``connect`` rejects a pair that no profile
+could ever fit; ``resolve_causality`` (called by every master, through
+``couplings``) then picks each component's profile from the whole graph
+(:mod:`assemblies.causality`), keeping the ones the user named.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from components.component import Component
-from components.interfaces import (FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, SIGNAL_OUT,
-                                   ComponentError, Port)
+from components.interfaces import FIXED, FORCE_IN, SIGNAL_OUT, ComponentError, Port
+
+from .causality import CausalityError, Link, compatible, port_causalities, resolve
 
 
 class AssemblyError(ValueError):
@@ -55,6 +59,7 @@ class Assembly:
         return self.components[instance]
 
     def _port(self, ref: str) -> tuple[str, Port, str]:
+        """(instance, port, causality under the component's current profile)."""
         instance, _, port_name = ref.partition(".")
         comp = self.component(instance)
         for port in comp.ports:
@@ -64,23 +69,52 @@ class Assembly:
                             f"port '{port_name}'; ports: {', '.join(p.name for p in comp.ports)}")
 
     def connect(self, a: str, b: str) -> None:
-        """Connect two ports, e.g. ``connect("driver.flange", "block.flange_a")``."""
-        (ia, pa, ca), (ib, pb, cb) = self._port(a), self._port(b)
+        """Connect two ports, e.g. ``connect("driver.flange", "block.flange_a")``.
+
+        Any two ports of one domain may be connected if some pair of the components'
+        available profiles fits them; which pair is decided by ``resolve_causality``.
+        """
+        (ia, pa, _), (ib, pb, _) = self._port(a), self._port(b)
         if pa.domain != pb.domain:
             raise AssemblyError(f"cannot connect {a} ({pa.domain.name}) to {b} ({pb.domain.name}): "
                                 "ports must be of the same domain and unit")
-        if FIXED in (ca, cb):
-            fixed = a if ca == FIXED else b
-            raise AssemblyError(f"cannot connect {a} to {b}: {fixed} is grounded in its profile")
-        if {ca, cb} not in ({MOTION_IN, FORCE_IN}, {SIGNAL_IN, SIGNAL_OUT}):
+        kinds_a = port_causalities(self.components[ia], pa.name)
+        kinds_b = port_causalities(self.components[ib], pb.name)
+        for ref, kinds, comp in ((a, kinds_a, self.components[ia]), (b, kinds_b, self.components[ib])):
+            if kinds == [FIXED]:
+                where = "its profile" if len(comp.profiles) == 1 or comp.profile_explicit \
+                    else "every profile"
+                raise AssemblyError(f"cannot connect {a} to {b}: {ref} is grounded in {where}")
+        if not any(compatible(x, y) for x in kinds_a for y in kinds_b):
+            ca, cb = "/".join(k for k in kinds_a if k != FIXED), "/".join(k for k in kinds_b if k != FIXED)
             raise AssemblyError(
                 f"cannot connect {a} ({ca}) to {b} ({cb}): one side must compute the motion "
-                f"(profile '{FORCE_IN}') and the other the force (profile '{MOTION_IN}'), "
+                f"(profile '{FORCE_IN}') and the other the force (profile 'motion'), "
                 "or a signal output must feed a signal input")
         self.connections.append(Connection(a, b))
 
+    def resolve_causality(self) -> dict[str, str]:
+        """Give every component a profile that fits the connections; instance -> profile name.
+
+        Components made with ``profile=...`` keep theirs; the others get the first of
+        their profiles (in declaration order) that makes every connection one motion
+        side against one force side and leaves no required input unconnected.
+        """
+        links = []
+        for conn in self.connections:
+            (ia, pa, _), (ib, pb, _) = self._port(conn.a), self._port(conn.b)
+            links.append(Link((ia, pa.name), (ib, pb.name)))
+        try:
+            chosen = resolve(self.name, self.components, links)
+        except CausalityError as exc:
+            raise AssemblyError(str(exc)) from None
+        for name, profile in chosen.items():
+            self.components[name].profile = profile
+        return {name: profile.name for name, profile in chosen.items()}
+
     def couplings(self) -> list[Coupling]:
-        """The connections as scalar input <- output assignments."""
+        """The connections as scalar input <- output assignments (profiles resolved first)."""
+        self.resolve_causality()
         out, fed = [], {}
         for conn in self.connections:
             (ia, pa, ca), (ib, pb, cb) = self._port(conn.a), self._port(conn.b)

@@ -56,7 +56,7 @@ def _cmd_run(args) -> int:
 
     run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
                          tolerance=args.tolerance, params=_parse_params(args.param),
-                         out=args.out, scheme=args.scheme, progress=progress)
+                         out=args.out, scheme=args.scheme, progress=progress, mode=args.mode)
     if sys.stderr.isatty():
         print(file=sys.stderr)
     print(run.table())
@@ -87,7 +87,11 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--tolerance", type=float, help="relative tolerance of the FMUs' solvers")
     r.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
-    r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"), default="jacobi")
+    r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"), default="jacobi",
+                   help="co-simulation sweep (mode cosim only)")
+    r.add_argument("--mode", choices=("cosim", "me", "monolithic"), default="cosim",
+                   help="master: co-simulation, one solver over Model Exchange FMUs, or the "
+                        "joined model (default: cosim)")
     r.add_argument("--out", default="out", help="output folder (default: out)")
     r.set_defaults(fn=_cmd_run)
     return parser

@@ -5,7 +5,10 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from .assembly import AssemblyError
 from .cosim import cosimulate
+from .me import simulate_me
+from .monolithic import simulate_monolithic
 from .plot import plot_result
 from .result import Result
 from .scenes import Figure, scene
@@ -36,27 +39,43 @@ class SceneRun:
         return "\n".join(lines)
 
 
+MODES = ("cosim", "me", "monolithic")
+
+
 def run_scene(name: str, stop_time: float | None = None, step: float | None = None,
               tolerance: float | None = None, params: dict | None = None,
-              out: str | Path | None = None, scheme: str = "jacobi", progress=None) -> Result:
+              out: str | Path | None = None, scheme: str = "jacobi", progress=None,
+              mode: str = "cosim") -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
+    `mode` picks the master: ``cosim`` (Co-Simulation FMUs, fixed communication step
+    `step`), ``me`` (Model Exchange FMUs under one solver) or ``monolithic`` (the joined
+    CasADi model, the reference); for the last two `step` is only the output interval.
     With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
     The measured figures are on ``res.figures``.
     """
-    return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress).result
+    return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
+                          mode).result
 
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
-                   scheme="jacobi", progress=None) -> SceneRun:
+                   scheme="jacobi", progress=None, mode="cosim") -> SceneRun:
+    if mode not in MODES:
+        raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
     sc = scene(name)
     asm = sc.build()
     for key, value in (params or {}).items():
         asm.set(key, value)
-    result = cosimulate(asm, stop_time if stop_time is not None else sc.stop_time,
-                        step if step is not None else sc.step,
-                        tolerance if tolerance is not None else sc.tolerance,
-                        record=sc.record, scheme=scheme, progress=progress)
+    common = dict(stop_time=stop_time if stop_time is not None else sc.stop_time,
+                  step=step if step is not None else sc.step,
+                  tolerance=tolerance if tolerance is not None else sc.tolerance,
+                  record=sc.record, progress=progress)
+    if mode == "cosim":
+        result = cosimulate(asm, scheme=scheme, **common)
+    elif mode == "me":
+        result = simulate_me(asm, **common)
+    else:
+        result = simulate_monolithic(asm, **common)
     run = SceneRun(name, result, sc.figures(result, asm))
     result.figures = run.figures
     if out is not None:

@@ -125,6 +125,10 @@ from .beam_scenes import BEAM_SCENES  # noqa: E402 - it needs Scene and Figure, 
 
 SCENES.update(BEAM_SCENES)
 
+from .table_scenes import TABLE_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
+
+SCENES.update(TABLE_SCENES)
+
 
 def scene(name: str) -> Scene:
     if name not in SCENES:

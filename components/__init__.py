@@ -8,6 +8,7 @@ from .interfaces import ComponentError, Parameter, Port, Profile, State
 from .axle import RigidBodyOnAxle
 from .beam import AssumedModesBeam
 from .force_sources import ConstantForce
+from .motion_sources import HarmonicMotion, SineMotion
 from .rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
 from .rolling_coin import RollingCoin
 from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
@@ -15,12 +16,12 @@ from .sources import ConstantSpeed
 from .spring_block import SpringBlock
 
 COMPONENTS = {cls.__name__: cls for cls in (
-    SpringBlock, ConstantSpeed, ConstantForce, AssumedModesBeam, RigidBodyOnAxle,
-    InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin, TorqueFreeBody,
-    WobblingDisk, Skate)}
+    SpringBlock, ConstantSpeed, SineMotion, HarmonicMotion, ConstantForce, AssumedModesBeam,
+    RigidBodyOnAxle, InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin,
+    TorqueFreeBody, WobblingDisk, Skate)}
 
 __all__ = ["AssumedModesBeam", "COMPONENTS", "Component", "ComponentError", "ConstantForce",
-           "ConstantSpeed", "FlatModel",
+           "ConstantSpeed", "FlatModel", "HarmonicMotion", "SineMotion",
            "HemisphericalShell", "InclinedCylinder", "Parameter", "Port", "Profile",
            "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "SpringBlock", "State",
            "TorqueFreeBody", "WobblingDisk", "flatten"]

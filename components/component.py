@@ -28,6 +28,7 @@ class Component:
     def __init__(self, name: str | None = None, profile: str | None = None, **values):
         self.name = name or type(self).__name__
         self.profile = self._pick_profile(profile)
+        self.profile_explicit = profile is not None  # an assembly may re-choose only implicit ones
         self.values = {p.name: float(p.default) for p in self.parameters}
         self.option_values = {o.name: o.default for o in self.options}
         self.starts = {s.name: float(s.start) for s in self.states}

@@ -1,0 +1,145 @@
+"""Choosing every component's causality profile from the connection graph.
+
+Modelica connects flanges acausally; an FMU needs to know which side computes the
+motion and which the force (MSL exports a *direct* mass, force in and motion out,
+and an *inverse* one, motion in and force out). Here each component offers its
+declared profiles, or only the one the user named, and a small backtracking search
+picks one per component so that
+
+- every flange connection has exactly one ``force`` side (it takes the force and
+  returns the motion) and one ``motion`` side (it takes the motion, returns the force);
+- every signal connection joins an ``output`` to an ``input``;
+- no port is left unconnected as a required input. An unconnected flange follows
+  Modelica: its flow is zero, so ``force`` (a free flange, its force input stays at
+  its start value 0) and ``fixed`` (grounded) are fine, but ``motion`` would need a
+  motion nobody computes; an unconnected signal ``input`` likewise.
+
+Among the valid assignments the search returns the first in declaration order (a
+component's first profile is its usual one), so results are deterministic. Components
+have one to three profiles, so the search is tiny.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from components.interfaces import FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, SIGNAL_OUT
+
+# what may face what across one connection
+_FLANGE_PAIR = {FORCE_IN, MOTION_IN}
+_SIGNAL_PAIR = {SIGNAL_IN, SIGNAL_OUT}
+# what an unconnected port may be: anything that needs no input from outside
+UNCONNECTED_OK = (FIXED, FORCE_IN, SIGNAL_OUT)
+
+
+class CausalityError(ValueError):
+    """No profile assignment satisfies the connections; the message names the ports."""
+
+
+def compatible(ca: str, cb: str) -> bool:
+    return {ca, cb} in (_FLANGE_PAIR, _SIGNAL_PAIR)
+
+
+def candidates(component) -> list:
+    """The profiles an assembly may give `component`: the user's choice, or all of them."""
+    if getattr(component, "profile_explicit", True):
+        return [component.profile]
+    return list(component.profiles)
+
+
+def port_causalities(component, port: str) -> list[str]:
+    """The causalities `port` can take, in profile order, without repeats."""
+    seen = []
+    for profile in candidates(component):
+        c = profile.ports.get(port)
+        if c is not None and c not in seen:
+            seen.append(c)
+    return seen
+
+
+@dataclass(frozen=True)
+class Link:
+    """A connection between two ports: (instance, port) on each side."""
+    a: tuple[str, str]
+    b: tuple[str, str]
+
+    def __str__(self):
+        return f"{'.'.join(self.a)} - {'.'.join(self.b)}"
+
+
+def _search(names, options, links, check_dangling, connected):
+    """First assignment (instance -> profile) satisfying every link, or None."""
+    by_instance = {n: [lk for lk in links if n in (lk.a[0], lk.b[0])] for n in names}
+    chosen: dict = {}
+
+    def ok(name):
+        profile = chosen[name]
+        for lk in by_instance[name]:
+            other = lk.b[0] if lk.a[0] == name else lk.a[0]
+            if other in chosen and not compatible(chosen[lk.a[0]].ports.get(lk.a[1]),
+                                                  chosen[lk.b[0]].ports.get(lk.b[1])):
+                return False
+        if check_dangling:
+            for port, causality in profile.ports.items():
+                if (name, port) not in connected and causality not in UNCONNECTED_OK:
+                    return False
+        return True
+
+    def extend(i):
+        if i == len(names):
+            return True
+        for profile in options[names[i]]:
+            chosen[names[i]] = profile
+            if ok(names[i]) and extend(i + 1):
+                return True
+        del chosen[names[i]]
+        return False
+
+    return dict(chosen) if extend(0) else None
+
+
+def resolve(assembly_name: str, components: dict, links: list[Link]) -> dict:
+    """Instance -> chosen Profile; raises CausalityError naming the ports when impossible."""
+    names = list(components)
+    options = {n: candidates(components[n]) for n in names}
+    connected = {lk.a for lk in links} | {lk.b for lk in links}
+    # a port that is a required input in every available profile can never be left open
+    for name in names:
+        comp = components[name]
+        for port in comp.ports:
+            if (name, port.name) in connected:
+                continue
+            kinds = port_causalities(comp, port.name)
+            if kinds and not any(k in UNCONNECTED_OK for k in kinds):
+                raise CausalityError(
+                    f"assembly '{assembly_name}': {name}.{port.name} is a dangling required input "
+                    f"({'/'.join(kinds)} in every profile {_profile_list(comp)}); connect it to a "
+                    "port that supplies it, or use a component whose profile grounds it")
+    solution = _search(names, options, links, True, connected)
+    if solution is not None:
+        return solution
+    # name the first connection that cannot be added to the ones before it
+    for k in range(1, len(links) + 1):
+        if _search(names, options, links[:k], False, connected) is None:
+            culprit = links[k - 1]
+            related = [str(lk) for lk in links[:k - 1]
+                       if {lk.a[0], lk.b[0]} & {culprit.a[0], culprit.b[0]}]
+            offered = "; ".join(f"{n}: {_profile_list(components[n])}"
+                                for n in dict.fromkeys([culprit.a[0], culprit.b[0]]))
+            raise CausalityError(
+                f"assembly '{assembly_name}': connection {culprit} leaves no way to give every "
+                "connection one motion side and one force side"
+                + (f" together with {', '.join(related)}" if related else "")
+                + f" (profiles available: {offered})")
+    # every connection fits, but only with a required input left open somewhere
+    first = _search(names, options, links, False, connected)
+    open_inputs = [f"{n}.{port} ({c})" for n, profile in first.items()
+                   for port, c in profile.ports.items()
+                   if (n, port) not in connected and c not in UNCONNECTED_OK]
+    raise CausalityError(
+        f"assembly '{assembly_name}': every choice of profiles that fits the connections leaves a "
+        f"required input dangling, e.g. {', '.join(open_inputs)}; connect it")
+
+
+def _profile_list(component) -> str:
+    return "[" + ", ".join(f"{p.name}: " + ", ".join(f"{k}={v}" for k, v in p.ports.items())
+                           for p in candidates(component)) + "]"

@@ -1,0 +1,384 @@
+"""The `monolithic` master: the components' flat models joined into ONE hybrid ODE.
+
+Each component is flattened under the profile the causality resolution gave it;
+every connected input is then replaced by ``gain * (the source's output
+expression)``, recursively, so the joined model has no coupling left: its inputs
+are only the ports nobody connected (free flanges, force input 0). An input that
+depends, through direct feedthrough, on an output that depends on that input is an
+algebraic loop: an AssemblyError for now (a Newton solve belongs here later).
+
+Two ways to run it:
+
+- ``engine="reference"`` (default): scipy's error-controlled solvers on the CasADi
+  functions of the joined model, events located on the indicators' domains and the
+  jump functions iterated, by :mod:`assemblies.hybrid`. No C, no FMI: the accuracy
+  reference the other masters are measured against.
+- ``engine="fmu"``: the joined model as one FMU (:func:`composite`, built by the
+  ordinary ``fmus.build_fmu``) co-simulated alone by the cosim master.
+"""
+from __future__ import annotations
+
+import math
+import time as wallclock
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Callable
+
+import casadi as ca
+import numpy as np
+
+from components.component import Component
+from components.dae import flatten
+from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, Profile, State
+
+from .assembly import Assembly, AssemblyError
+from .hybrid import METHODS, IntegrationError, integrate
+from .result import Result, Table
+
+
+@dataclass
+class JoinedModel:
+    """The assembly's explicit hybrid ODE; names are ``instance.variable``."""
+    t: ca.SX
+    x: ca.SX
+    q: ca.SX
+    u: ca.SX          # the open (unconnected) inputs
+    p: ca.SX
+    xdot: ca.SX
+    z: ca.SX
+    jump_x: ca.SX
+    jump_q: ca.SX
+    signals: dict     # every recordable name -> expression (states, modes, outputs, inputs)
+    x0: np.ndarray
+    q0: np.ndarray
+    u0: np.ndarray
+    p0: np.ndarray
+    members: dict     # instance -> its FlatModel (for names, units, descriptions)
+    outputs: dict     # instance -> names of its FMU outputs, in FMU order
+    owner_of_indicator: list[str]
+    open_inputs: list[tuple[str, str]]   # (instance, input) in u order
+    terminate: list[tuple[int, str, str]]  # (index in q, instance, message)
+
+
+def join(assembly: Assembly) -> JoinedModel:
+    """Flatten every component and substitute the connections (see the module doc)."""
+    couplings = assembly.couplings()  # resolves the causality profiles
+    members = {name: flatten(comp) for name, comp in assembly.components.items()}
+    t = ca.SX.sym("t")
+
+    def symbol_table(m):
+        names = {}
+        for i, v in enumerate(m.states):
+            names[v.name] = m.x[i]
+        for i, v in enumerate(m.modes):
+            names[v.name] = m.q[i]
+        for i, v in enumerate(m.outputs):
+            names[v.name] = m.y[i]
+        for i, v in enumerate(m.inputs):
+            names[v.name] = m.u[i]
+        return names
+
+    tables = {name: symbol_table(m) for name, m in members.items()}
+    feeds = {c.target: c for c in couplings}
+    resolved: dict[tuple[str, str], ca.SX] = {}
+
+    def resolve(target, stack=()):
+        if target in resolved:
+            return resolved[target]
+        if target in stack:
+            loop = " -> ".join(".".join(k) for k in stack[stack.index(target):] + (target,))
+            raise AssemblyError(f"assembly '{assembly.name}': algebraic loop through the inputs "
+                                f"{loop}; the monolithic master cannot solve loops yet")
+        c = feeds[target]
+        inst, var = c.source
+        if var not in tables[inst]:
+            raise AssemblyError(f"assembly '{assembly.name}': {inst} has no variable '{var}'")
+        expr = tables[inst][var]
+        m = members[inst]
+        for i, v in enumerate(m.inputs):
+            if (inst, v.name) in feeds and ca.depends_on(expr, m.u[i]):
+                expr = ca.substitute(expr, m.u[i], resolve((inst, v.name), stack + (target,)))
+        resolved[target] = c.gain * expr
+        return resolved[target]
+
+    for target in feeds:
+        resolve(target)
+    # one substitution per member: its time, and its connected inputs by their sources
+    open_inputs, u_syms, u0 = [], [], []
+    old, new = [], []
+    for name, m in members.items():
+        old.append(m.t)
+        new.append(t)
+        for i, v in enumerate(m.inputs):
+            if (name, v.name) in feeds:
+                old.append(m.u[i])
+                new.append(resolved[(name, v.name)])
+            else:
+                open_inputs.append((name, v.name))
+                u_syms.append(m.u[i])
+                u0.append(v.start)
+    old_v, new_v = ca.vertcat(*old), ca.vertcat(*new)
+
+    def sub(expr):
+        # twice: a resolved input carries its source member's time symbol
+        return ca.substitute(ca.substitute(ca.SX(expr), old_v, new_v), old_v, new_v)
+
+    cat = lambda attr: ca.vertcat(*[getattr(m, attr) for m in members.values()])  # noqa: E731
+    signals, outputs, owners, terminate = {}, {}, [], []
+    q_offset = 0
+    for name, m in members.items():
+        for v, sym in tables[name].items():
+            signals[f"{name}.{v}"] = sub(sym)
+        outputs[name] = ([v.name for v, out in zip(m.states, m.state_outputs) if out]
+                         + [v.name for v in m.outputs] + [v.name for v in m.modes])
+        owners += [name] * m.z.numel()
+        if m.terminate is not None:
+            terminate.append((q_offset + m.terminate[0], name, m.terminate[1]))
+        q_offset += m.q.numel()
+    return JoinedModel(
+        t=t, x=cat("x"), q=cat("q"), u=ca.vertcat(*u_syms), p=cat("p"),
+        xdot=sub(cat("xdot")), z=sub(cat("z")), jump_x=sub(cat("jump_x")),
+        jump_q=sub(cat("jump_q")), signals=signals,
+        x0=np.concatenate([[v.start for v in m.states] for m in members.values()] + [[]]),
+        q0=np.concatenate([[v.start for v in m.modes] for m in members.values()] + [[]]),
+        u0=np.array(u0, dtype=float),
+        p0=np.concatenate([[v.start for v in m.parameters] for m in members.values()] + [[]]),
+        members=members, outputs=outputs, owner_of_indicator=owners,
+        open_inputs=open_inputs, terminate=terminate)
+
+
+# --- the reference integration ------------------------------------------------
+class _JoinedSystem:
+    """A JoinedModel as a hybrid system for :func:`assemblies.hybrid.integrate`."""
+
+    def __init__(self, model: JoinedModel, columns: list[str]):
+        args = [model.t, model.x, model.q, model.u, model.p]
+        self.model = model
+        self.ode = ca.Function("ode", args, [model.xdot])
+        self.jac = ca.Function("ode_jacobian", args, [ca.jacobian(model.xdot, model.x)])
+        self.zc = ca.Function("zc", args, [model.z])
+        self.jump = ca.Function("jump", args, [model.jump_x, model.jump_q])
+        self.record = ca.Function("record", args, [ca.vertcat(*[model.signals[c] for c in columns])])
+        self.outputs = {name: ca.Function(f"out_{name}", args, [ca.vertcat(
+            *[model.signals[f"{name}.{v}"] for v in names])]) for name, names in model.outputs.items()}
+        self.q, self.u, self.p = model.q0.copy(), model.u0, model.p0
+        self.event_rows = {name: [] for name in model.outputs}
+
+    def rhs(self, t, y):
+        return np.asarray(self.ode(t, y, self.q, self.u, self.p)).ravel()
+
+    def jacobian(self, t, y):
+        return np.asarray(self.jac(t, y, self.q, self.u, self.p))
+
+    def indicators(self, t, y):
+        return np.asarray(self.zc(t, y, self.q, self.u, self.p)).ravel()
+
+    def sample(self, t, y):
+        return [t] + np.asarray(self.record(t, y, self.q, self.u, self.p)).ravel().tolist()
+
+    def jumps(self, t, y):
+        """Apply the jump functions until nothing changes (the FMUs' event iteration)."""
+        for _ in range(100):
+            x_new, q_new = (np.asarray(v).ravel() for v in self.jump(t, y, self.q, self.u, self.p))
+            if np.array_equal(x_new, y) and np.array_equal(q_new, self.q):
+                return y
+            y, self.q = x_new, q_new
+        raise IntegrationError(f"the jumps do not settle at t = {t:g}")
+
+    def handle_event(self, t, y, changed):
+        from .hybrid import EventOutcome
+        y = self.jumps(t, y)
+        for name in {self.model.owner_of_indicator[i] for i in np.flatnonzero(changed)}:
+            row = np.asarray(self.outputs[name](t, y, self.q, self.u, self.p)).ravel().tolist()
+            self.event_rows[name].append([t] + row)
+        for index, name, message in self.model.terminate:
+            if self.q[index] != 0:
+                self.terminated_by = name
+                return EventOutcome(y, message)
+        return EventOutcome(y)
+
+
+def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-10,
+                        record: list[str] | None = None, method: str = "DOP853",
+                        engine: str = "reference",
+                        progress: Callable[[float], None] | None = None) -> Result:
+    """Simulate the joined model; the table holds every `step` seconds (see the module doc)."""
+    if not (math.isfinite(stop_time) and stop_time > 0):
+        raise AssemblyError(f"stop time must be a positive finite number, not {stop_time}")
+    if not (math.isfinite(step) and step > 0):
+        raise AssemblyError(f"output step must be a positive finite number, not {step}")
+    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
+        raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
+    if engine == "fmu":
+        return _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress)
+    if engine != "reference":
+        raise AssemblyError(f"engine must be 'reference' or 'fmu', not '{engine}'")
+    if method not in METHODS:
+        raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
+    started = wallclock.perf_counter()
+    model = join(assembly)
+    columns = _columns(model, record)
+    system = _JoinedSystem(model, columns)
+    # the components' current values, not only their defaults at flatten time
+    x0 = model.x0.copy()
+    system.p = np.array(model.p0)
+    y0 = system.jumps(0.0, x0)  # the event iteration at initialization, as the FMUs do
+    n_out = max(1, math.ceil(stop_time / step - 1e-9))
+    times = np.minimum(np.arange(n_out + 1) * step, stop_time)
+    try:
+        rows, stats, terminated = integrate(system, y0, stop_time, times, method=method,
+                                            rtol=tolerance, atol=tolerance * 1e-2,
+                                            progress=progress)
+    except IntegrationError as exc:
+        from .cosim import SimulationError
+        raise SimulationError(f"assembly '{assembly.name}': {exc}") from None
+    names = ["time"] + columns
+    table = Table.from_rows(names, rows)
+    events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in model.outputs[name]], rows_)
+              for name, rows_ in system.event_rows.items() if rows_}
+    settings = {"stop_time": stop_time, "step": step, "tolerance": tolerance,
+                "scheme": "monolithic", "method": method, "engine": "reference",
+                "wall_s": wallclock.perf_counter() - started,
+                "steps": stats.steps, "events": stats.events, "rhs_calls": stats.rhs_calls,
+                "terminated": None if terminated is None else
+                {"instance": getattr(system, "terminated_by", ""), "time": terminated[0],
+                 "message": terminated[1]}}
+    return Result({n: table[n] for n in names}, events, settings)
+
+
+def _columns(model: JoinedModel, record):
+    if record is None:
+        return [f"{name}.{v}" for name, names in model.outputs.items() for v in names]
+    for ref in record:
+        if ref not in model.signals:
+            instance = ref.partition(".")[0]
+            known = [n for n in model.signals if n.startswith(instance + ".")]
+            raise AssemblyError(f"cannot record '{ref}': the joined model has no such variable; "
+                                f"{instance} has: {', '.join(known) or '(no instance of that name)'}")
+    return list(record)
+
+
+# --- the joined model as one component, hence one FMU -----------------------------
+class Composite(Component):
+    """An assembly joined into one model (built per assembly by :func:`composite`)."""
+
+    joined: JoinedModel
+    open_ports: tuple = ()  # (port name in the composite, instance, port)
+
+    def equations(self, e):
+        m = self.joined
+        old = [m.t]
+        new = [e.t]
+        for name, member in m.members.items():
+            for i, v in enumerate(member.states):
+                old.append(member.x[i])
+                new.append(getattr(e.x, f"{name}.{v.name}"))
+            for i, v in enumerate(member.modes):
+                old.append(member.q[i])
+                new.append(getattr(e.q, f"{name}.{v.name}"))
+            for i, v in enumerate(member.parameters):
+                old.append(member.p[i])
+                new.append(getattr(e.p, f"{name}.{v.name}"))
+        ports = {(inst, port): e.port(full) for full, inst, port in self.open_ports}
+        for k, (inst, var) in enumerate(m.open_inputs):
+            port, _, flow = var.rpartition(".")
+            old.append(m.u[k])
+            new.append(getattr(ports[(inst, port)], flow))
+        old_v, new_v = ca.vertcat(*old), ca.vertcat(*new)
+
+        def sub(expr):
+            return ca.substitute(ca.SX(expr), old_v, new_v)
+
+        xdot = sub(m.xdot)
+        k = 0
+        for name, member in m.members.items():
+            for v in member.states:
+                e.residual(getattr(e.der, f"{name}.{v.name}") - xdot[k])
+                k += 1
+        for name, member in m.members.items():
+            for v in member.outputs:
+                port, _, across = v.name.rpartition(".")
+                full = f"{name}.{v.name}"
+                if (name, port) in ports:  # an open flange: its motion is the port's output
+                    e.residual(getattr(ports[(name, port)], across) - sub(m.signals[full]))
+                else:
+                    e.output(full, sub(m.signals[full]), v.unit, v.description)
+        for i, owner in enumerate(m.owner_of_indicator):
+            e.indicator(sub(m.z[i]), f"{owner}: indicator")
+        jx, jq = sub(m.jump_x), sub(m.jump_q)
+        k = 0
+        for name, member in m.members.items():
+            for v in member.states:
+                e.jump(f"{name}.{v.name}", jx[k])
+                k += 1
+        k = 0
+        for name, member in m.members.items():
+            for v in member.modes:
+                e.jump(f"{name}.{v.name}", jq[k])
+                k += 1
+
+
+def composite(assembly: Assembly) -> Composite:
+    """The assembly as one Component, so ``fmus.build_fmu`` builds it into one FMU.
+
+    Parameters, states and modes are the members' with ``instance.`` prefixed, their
+    current values as defaults; unconnected flanges become the composite's ports.
+    """
+    model = join(assembly)
+    if model.terminate:
+        raise AssemblyError(f"assembly '{assembly.name}': members that can end a run "
+                            f"({', '.join(n for _, n, _ in model.terminate)}) are not supported "
+                            "in one FMU yet")
+    parameters, states, modes, ports, constraints, open_ports = [], [], [], [], [], []
+    for name, comp in assembly.components.items():
+        for p in comp.parameters:
+            parameters.append(Parameter(f"{name}.{p.name}", comp.values[p.name], p.unit,
+                                        f"{name}: {p.description}", p.min, p.max, p.min_strict))
+        for s in comp.states:
+            states.append(State(f"{name}.{s.name}", comp.starts[s.name], s.unit,
+                                f"{name}: {s.description}", s.output))
+        for v in model.members[name].modes:
+            modes.append(Mode(f"{name}.{v.name}", int(v.start), f"{name}: {v.description}"))
+        for c in comp.constraints:
+            names = [p.name for p in comp.parameters]
+            constraints.append(Constraint(
+                lambda ns, c=c, name=name, names=names: c.g(SimpleNamespace(
+                    **{n: getattr(ns, f"{name}.{n}") for n in names})),
+                f"{name}: {c.message}", c.strict))
+        for port in comp.ports:
+            if port.name in {v.name.rpartition(".")[0] for v in model.members[name].inputs} and \
+                    any(i == name and v.startswith(port.name + ".") for i, v in model.open_inputs):
+                if comp.profile.ports[port.name] != FORCE_IN:
+                    raise AssemblyError(f"{name}.{port.name}: an open port of a composite must "
+                                        f"be a free flange ('{FORCE_IN}')")
+                ports.append(Port(f"{name}.{port.name}", port.domain, f"{name}: {port.description}"))
+                open_ports.append((f"{name}.{port.name}", name, port.name))
+    doc = f"The assembly '{assembly.name}' as one model: {', '.join(assembly.components)}."
+    cls = type(assembly.name, (Composite,), {
+        "__doc__": doc, "joined": model, "open_ports": tuple(open_ports),
+        "parameters": tuple(parameters), "states": tuple(states), "modes": tuple(modes),
+        "ports": tuple(ports), "constraints": tuple(constraints),
+        "profiles": (Profile("assembled", "connections inside; open flanges take a force",
+                             {p.name: FORCE_IN for p in ports}),),
+        "default_stop_time": max(c.default_stop_time for c in assembly.components.values())})
+    return cls()
+
+
+def _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress):
+    from .cosim import cosimulate
+    single = Assembly(assembly.name)
+    single.add("assembly", composite(assembly))
+    inner = None if record is None else [f"assembly.{r}" for r in record]
+    res = cosimulate(single, stop_time, step, tolerance, record=inner, progress=progress)
+    columns = {("time" if n == "time" else n.removeprefix("assembly.")): res[n] for n in res.columns}
+    # one FMU cannot say which member an event belongs to: every member sees all of them
+    events = {}
+    if "assembly" in res.events:
+        ev = res.events["assembly"]
+        for name in assembly.components:
+            cols = {"time": ev["time"]}
+            cols.update({n.removeprefix("assembly."): ev[n] for n in ev.columns
+                         if n.startswith(f"assembly.{name}.")})
+            events[name] = Table(cols)
+    settings = dict(res.settings, scheme="monolithic", engine="fmu")
+    return Result(columns, events, settings)
