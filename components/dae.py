@@ -34,6 +34,7 @@ class Variable:
     description: str
     start: float = 0.0
     derivative_input: int | None = None  # for inputs: index of the input that is its time derivative
+    nominal: float = 1.0
 
 
 @dataclass
@@ -308,7 +309,7 @@ def flatten(component: Component) -> FlatModel:
     return FlatModel(
         component=component, t=e.t, x=x, q=q, u=u, p=p, xdot=xdot, y=y, z=z,
         jump_x=jump_x, jump_q=jump_q, g=g,
-        states=[Variable(s.name, s.unit, s.description, component.starts[s.name])
+        states=[Variable(s.name, s.unit, s.description, component.starts[s.name], nominal=s.nominal)
                 for s in component.states],
         state_outputs=[s.output for s in component.states],
         modes=[Variable(m.name, "", m.description, float(m.start)) for m in modes],

@@ -79,6 +79,7 @@ class State:
     description: str
     output: bool = True
     start_name: str | None = None  # another name its start value answers to, e.g. theta0
+    nominal: float = 1.0  # typical magnitude: importers scale their error control by it
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ class ModelVariable:
     derivative_of: int | None = None   # vr of the state this variable is the derivative of
     input_derivative: int | None = None  # for inputs: index (in u) of its derivative input
     is_indicator: bool = False
+    nominal: float = 1.0  # declared for states; FMI's default elsewhere
 
 
 def variable_table(model: FlatModel) -> list[ModelVariable]:
@@ -52,7 +53,7 @@ def variable_table(model: FlatModel) -> list[ModelVariable]:
     state_rows = []
     for i, (v, is_output) in enumerate(zip(model.states, model.state_outputs)):
         state_rows.append(add(name=v.name, kind="MF_STATE", index=i, unit=v.unit,
-                              description=v.description, start=v.start,
+                              description=v.description, start=v.start, nominal=v.nominal,
                               causality="output" if is_output else "local", initial="exact"))
     for i, state in enumerate(state_rows):
         add(name=f"der({state.name})", kind="MF_DERIVATIVE", index=i,
@@ -126,7 +127,7 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
     lines.append("static const mf_variable variables[] = {")
     for row in table:
         lines.append(f"    {{{_c_string(row.name)}, {row.kind}, {row.index}, {int(row.is_integer)}, "
-                     f"{_c_double(row.start)}}},")
+                     f"{_c_double(row.start)}, {_c_double(row.nominal)}}},")
     lines.append("};")
     derivs = [(-1 if v.derivative_input is None else v.derivative_input) for v in model.inputs]
     lines.append(f"static const int input_derivative[] = {{{', '.join(map(str, derivs)) or '-1'}}};")

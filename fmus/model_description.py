@@ -85,6 +85,11 @@ def _attrs(**kw) -> str:
     return " ".join(f"{k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
 
 
+def _nominal(r: ModelVariable):
+    """A state's declared nominal value (the one GetNominalsOfContinuousStates returns)."""
+    return repr(float(r.nominal)) if r.kind == "MF_STATE" else None
+
+
 def _start(r: ModelVariable):
     if r.start is None:
         return None
@@ -161,7 +166,7 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
         attrs = _attrs(name=r.name, valueReference=r.vr, description=description or None,
                        causality=r.causality, variability=variability, initial=_initial(r),
                        start=_start(r), unit=(r.unit or None) if not r.is_integer else None,
-                       displayUnit=_display_unit(r), min=lo, max=hi,
+                       displayUnit=_display_unit(r), min=lo, max=hi, nominal=_nominal(r),
                        derivative=r.derivative_of)
         out.append(f"    <{tag} {attrs}/>")
     out += ["  </ModelVariables>", "  <ModelStructure>"]
@@ -210,7 +215,7 @@ def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> 
         else:
             derivative = index[r.derivative_of] if r.derivative_of is not None else None
             typed = _attrs(start=_start(r), unit=r.unit or None, displayUnit=_display_unit(r),
-                           min=lo, max=hi, derivative=derivative)
+                           min=lo, max=hi, nominal=_nominal(r), derivative=derivative)
         tag = "Integer" if r.is_integer else "Real"
         out.append(f"      <{tag}{' ' + typed if typed else ''}/>")
         out.append("    </ScalarVariable>")

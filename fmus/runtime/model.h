@@ -41,6 +41,7 @@ typedef struct {
     int index;            /* into the array of its kind */
     int is_integer;       /* exposed as Int32 (FMI 3) / Integer (FMI 2) */
     double start;
+    double nominal;       /* states: the scale an importer's error control may use; else 1 */
 } mf_variable;
 
 typedef struct {

@@ -1034,6 +1034,10 @@ mf_status mf_get_nominals(mf_instance *I, const char *fn, double nominals[], siz
         !array_ok(I, fn, nominals, n, "nominals"))
         return MF_ERROR;
     for (i = 0; i < n; i++) nominals[i] = 1.0;
+    for (i = 0; i < (size_t)I->m->n_variables; i++) {
+        const mf_variable *v = &I->m->variables[i];
+        if (v->kind == MF_STATE && v->index >= 0 && (size_t)v->index < n) nominals[v->index] = v->nominal;
+    }
     return MF_OK;
 }
 
