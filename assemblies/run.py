@@ -36,6 +36,9 @@ class SceneRun:
                          f"{s['terminated']['time']:.10g}: {s['terminated']['message']}")
         lines.append(f"stop time {s['stop_time']:g} s, step {s['step']:g} s, tolerance "
                      f"{s['tolerance']:g}, {s['scheme']}, wall time {s['wall_s']:.2f} s")
+        if s.get("adaptive"):
+            lines.append(f"adaptive to tol {s['tol']:g} (extrapolation {s['extrapolation']}): "
+                         f"{s['steps']} steps taken, {s['rejected']} rejected")
         return "\n".join(lines)
 
 
@@ -45,21 +48,25 @@ MODES = ("cosim", "me", "monolithic")
 def run_scene(name: str, stop_time: float | None = None, step: float | None = None,
               tolerance: float | None = None, params: dict | None = None,
               out: str | Path | None = None, scheme: str = "jacobi", progress=None,
-              mode: str = "cosim") -> Result:
+              mode: str = "cosim", adaptive: bool | float = False,
+              extrapolation: int = 0) -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
     `mode` picks the master: ``cosim`` (Co-Simulation FMUs, fixed communication step
     `step`), ``me`` (Model Exchange FMUs under one solver) or ``monolithic`` (the joined
     CasADi model, the reference); for the last two `step` is only the output interval.
     With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
-    The measured figures are on ``res.figures``.
+    The measured figures are on ``res.figures``. For ``cosim``, `extrapolation` (0, 1, 2)
+    is the input extrapolation order and `adaptive` (True, or the error tolerance as a
+    number; True means 1e-4) makes `step` the output interval of an adaptive step.
     """
     return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
-                          mode).result
+                          mode, adaptive, extrapolation).result
 
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
-                   scheme="jacobi", progress=None, mode="cosim") -> SceneRun:
+                   scheme="jacobi", progress=None, mode="cosim", adaptive=False,
+                   extrapolation=0) -> SceneRun:
     if mode not in MODES:
         raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
     sc = scene(name)
@@ -71,7 +78,10 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
                   tolerance=tolerance if tolerance is not None else sc.tolerance,
                   record=sc.record, progress=progress)
     if mode == "cosim":
-        result = cosimulate(asm, scheme=scheme, **common)
+        tol = 1e-4 if adaptive is True else float(adaptive or 1e-4)
+        result = cosimulate(asm, scheme=scheme, extrapolation=extrapolation,
+                            adaptive=adaptive is not False and adaptive is not None, tol=tol,
+                            **common)
     elif mode == "me":
         result = simulate_me(asm, **common)
     else:

@@ -1,0 +1,59 @@
+"""Error estimation and step-size control for the adaptive co-simulation master.
+
+The estimate is step doubling (Richardson): from the FMUs' saved state, one
+communication step of h and two of h/2. If the coupling's local error is
+C h^(p+1) (global order p), the two results differ by C h^(p+1) (1 - 2^-p), so
+the error of the two-half-step result, the one kept, is that difference over
+(2^p - 1). It is measured on the FMUs' continuous states (absolute, in their
+own units: m, m/s, ...), because outputs such as friction forces jump at events
+and would say nothing about the error that persists.
+
+The step is accepted when the estimate is at most ``tol * h / horizon`` (error
+per unit step): the local errors then add up to at most about ``tol`` over the
+horizon, which is what makes the *global* error, the one a user compares with a
+reference, follow the requested tolerance. The next step comes from the
+standard controller h * min(4, max(0.2, 0.9 (allowed / estimate)^(1/p))) (the
+exponent is 1/p, not 1/(p+1), because the allowed error itself grows with h).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+class StepController:
+    def __init__(self, tol: float, order: int, horizon: float, h_max: float):
+        if not (math.isfinite(tol) and tol > 0):
+            raise ValueError(f"adaptive tolerance must be a positive finite number, not {tol}")
+        self.tol, self.order, self.horizon, self.h_max = tol, order, horizon, h_max
+        self.h_min = 1e-12 * horizon
+        self.accepted = 0
+        self.rejected = 0
+        self.max_ratio = 0.0  # largest accepted estimate / allowed, a self-check for reports
+
+    def estimate(self, coarse: np.ndarray, fine: np.ndarray) -> float:
+        """Error of `fine` (two half steps) from its difference to `coarse` (one step)."""
+        if coarse.size == 0:
+            return 0.0
+        return float(np.max(np.abs(fine - coarse))) / (2 ** self.order - 1)
+
+    def allowed(self, h: float) -> float:
+        return self.tol * h / self.horizon
+
+    def judge(self, error: float, h: float) -> tuple[bool, float]:
+        """(accept?, next step) for a step of `h` with estimated error `error`."""
+        allowed = self.allowed(h)
+        ok = error <= allowed
+        if ok:
+            self.accepted += 1
+            self.max_ratio = max(self.max_ratio, error / allowed)
+        else:
+            self.rejected += 1
+        factor = 4.0 if error == 0 else min(4.0, max(0.2, 0.9 * (allowed / error) ** (1 / self.order)))
+        if not ok:
+            factor = min(factor, 0.5)  # a rejected step must shrink
+        return ok, min(self.h_max, h * factor)
+
+
+__all__ = ["StepController"]

@@ -1,0 +1,45 @@
+"""Input extrapolation for the co-simulation master, within what FMI 3 allows.
+
+FMI 3 Co-Simulation has no input-derivative call (FMI 2's
+``fmi2SetRealInputDerivatives``): an FMU holds an input constant over a step
+unless it extrapolates it itself. Ours do so along a *derivative chain* of
+inputs: a flange's ``s`` is extrapolated with ``v`` and ``a``, ``v`` with ``a``
+(Taylor, quadratic and linear). The end of each chain (``a``) and every input
+with no derivative input (forces, signals) stays constant over the step.
+
+What the master can honestly do for such a held input: choose the constant. With
+extrapolation order p it fits the polynomial of degree p through the source's
+last p + 1 values at communication points (interpolating where Gauss–Seidel has
+already stepped the source) and holds that polynomial's *mean over the step*.
+The input's integral over the step (the impulse of a force, the velocity change
+from an acceleration) is then exact to O(h^(p+2)); its double integral (the
+displacement it causes) stays O(h^3) because a constant cannot carry a slope.
+So orders 1 and 2 raise a ZOH coupling from global order 1 to 2 in velocities
+and positions, and order 2 adds accuracy only in velocity-like quantities. A
+genuinely time-varying input inside a step would need FMI 2 input derivatives
+or an FMU-side chain (a jerk input), which our FMUs do not offer.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+ORDERS = (0, 1, 2)
+
+
+def step_mean(points: list[tuple[float, float]], t: float, h: float, order: int) -> float:
+    """Mean over [t, t + h] of the polynomial through the last ``order + 1`` points.
+
+    `points` are (time, value), oldest first, with distinct times; fewer points than
+    ``order + 1`` lower the degree (the first steps of a run).
+    """
+    pts = points[-(order + 1):]
+    if len(pts) == 1:
+        return pts[0][1]
+    # times in units of the step, from t: the step is [0, 1], which keeps the fit well scaled
+    tau = np.array([(p[0] - t) / h for p in pts])
+    y = np.array([p[1] for p in pts])
+    c = np.linalg.solve(np.vander(tau, len(pts), increasing=True), y)
+    return float(sum(ck / (k + 1) for k, ck in enumerate(c)))
+
+
+__all__ = ["ORDERS", "step_mean"]

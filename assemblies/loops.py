@@ -1,0 +1,127 @@
+"""Algebraic loops between direct-feedthrough outputs, for the co-simulation master.
+
+Coupling c2 *needs* c1 when c1 sets an input of c2's source FMU that c2's source
+output depends on (the output dependencies of the model description). The
+strongly connected components of that graph, in dependency order, tell the
+master how to make every input consistent with every output at a communication
+point: a single coupling is just assigned; a component of several couplings is
+an algebraic loop, solved for its inputs u by
+
+    r(u) = u - G(u) = 0,   G_i(u) = gain_i * y_source(i)(u)
+
+with Newton's method, the Jacobian dG/du assembled from the FMUs' directional
+derivatives dy/du (fmi3GetDirectionalDerivative). A loop whose gain exceeds one
+(a light beam tip carrying a heavy block) makes plain fixed-point iteration
+diverge; Newton solves a linear loop in one step.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+class LoopError(RuntimeError):
+    """A loop did not converge; the message names the FMUs and the couplings."""
+
+
+def coupling_groups(couplings, depends, inputs) -> list[list[int]]:
+    """Indices of `couplings` grouped into strongly connected components, sources first.
+
+    `depends[instance][output]` is the set of inputs that output depends on (None:
+    all of `inputs[instance]`). Tarjan's algorithm yields components with every
+    component after the ones it needs.
+    """
+    def deps(inst, out):
+        d = depends[inst].get(out)
+        return set(inputs[inst]) if d is None else d
+
+    needs = {i: [j for j, c1 in enumerate(couplings)
+                 if c1.target[0] == c2.source[0] and c1.target[1] in deps(*c2.source)]
+             for i, c2 in enumerate(couplings)}
+    index, low, on_stack, stack, groups = {}, {}, set(), [], []
+
+    def strong(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in needs[v]:
+            if w not in index:
+                strong(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                group.append(w)
+                if w == v:
+                    break
+            groups.append(sorted(group))
+
+    for v in range(len(couplings)):
+        if v not in index:
+            strong(v)
+    return groups
+
+
+def is_loop(group, couplings, depends, inputs) -> bool:
+    if len(group) > 1:
+        return True
+    c = couplings[group[0]]  # a single coupling feeding its own source through feedthrough
+    d = depends[c.source[0]].get(c.source[1])
+    return c.target[0] == c.source[0] and (d is None or c.target[1] in d)
+
+
+def describe(group, couplings) -> str:
+    return " -> ".join(f"{'.'.join(couplings[i].source)} => {'.'.join(couplings[i].target)}"
+                       for i in group)
+
+
+def solve_loop(group, couplings, get_input, set_input, get_output, partial, *,
+               tolerance: float, max_iterations: int, newton: bool = True) -> tuple[int, float]:
+    """Make the loop's inputs consistent; returns (iterations, final residual).
+
+    get_input/set_input/get_output take (instance, variable); partial(instance,
+    output, input) is d output / d input of one FMU at its current point. The
+    residual is max |u - G(u)|, converged when below ``tolerance * (1 + max |u|)``.
+    """
+    cs = [couplings[i] for i in group]
+    u = np.array([get_input(*c.target) for c in cs])
+
+    def residual(u):
+        for c, value in zip(cs, u):
+            set_input(*c.target, value)
+        return u - np.array([c.gain * get_output(*c.source) for c in cs])
+
+    r = residual(u)
+    for iteration in range(max_iterations + 1):
+        res = float(np.max(np.abs(r)))
+        if res <= tolerance * (1.0 + float(np.max(np.abs(u)))):
+            return iteration, res
+        if iteration == max_iterations:
+            break
+        if newton:
+            jac = np.eye(len(cs))
+            for i, ci in enumerate(cs):
+                for j, cj in enumerate(cs):
+                    if cj.target[0] == ci.source[0]:
+                        jac[i, j] -= ci.gain * partial(ci.source[0], ci.source[1], cj.target[1])
+            try:
+                step = np.linalg.solve(jac, -r)
+            except np.linalg.LinAlgError:
+                raise LoopError(f"algebraic loop {describe(group, couplings)} has a singular "
+                                "Jacobian (I - dG/du): no unique consistent input") from None
+            u = u + step
+        else:
+            u = u - r  # u <- G(u)
+        if not np.all(np.isfinite(u)):
+            break
+        r = residual(u)
+    instances = sorted({c.source[0] for c in cs} | {c.target[0] for c in cs})
+    raise LoopError(f"algebraic loop between FMUs {', '.join(instances)} did not converge in "
+                    f"{max_iterations} {'Newton' if newton else 'fixed-point'} iterations "
+                    f"(residual {float(np.max(np.abs(r))):.3g}): {describe(group, couplings)}")
+
+
+__all__ = ["LoopError", "coupling_groups", "describe", "is_loop", "solve_loop"]
