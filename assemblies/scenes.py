@@ -129,6 +129,10 @@ from .table_scenes import TABLE_SCENES  # noqa: E402 - it needs Scene and Figure
 
 SCENES.update(TABLE_SCENES)
 
+from .joined_scenes import JOINED_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
+
+SCENES.update(JOINED_SCENES)
+
 
 def scene(name: str) -> Scene:
     if name not in SCENES:

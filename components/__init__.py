@@ -14,14 +14,18 @@ from .rolling_coin import RollingCoin
 from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 from .sources import ConstantSpeed
 from .spring_block import SpringBlock
+from .rotational import Motor, TorsionalSpring
+from .translational import MassWithFriction, Spring, SpringDamper
 
 COMPONENTS = {cls.__name__: cls for cls in (
     SpringBlock, ConstantSpeed, SineMotion, HarmonicMotion, ConstantForce, AssumedModesBeam,
     RigidBodyOnAxle, InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin,
-    TorqueFreeBody, WobblingDisk, Skate)}
+    TorqueFreeBody, WobblingDisk, Skate, MassWithFriction, Spring, SpringDamper, TorsionalSpring,
+    Motor)}
 
 __all__ = ["AssumedModesBeam", "COMPONENTS", "Component", "ComponentError", "ConstantForce",
            "ConstantSpeed", "FlatModel", "HarmonicMotion", "SineMotion",
-           "HemisphericalShell", "InclinedCylinder", "Parameter", "Port", "Profile",
-           "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "SpringBlock", "State",
+           "HemisphericalShell", "InclinedCylinder", "MassWithFriction", "Motor", "Parameter", "Port", "Profile",
+           "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Spring", "SpringBlock",
+           "SpringDamper", "State", "TorsionalSpring",
            "TorqueFreeBody", "WobblingDisk", "flatten"]

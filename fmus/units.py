@@ -23,6 +23,8 @@ UNITS: dict[str, dict[str, int]] = {
     "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
     "kg.m2": {"kg": 1, "m": 2},
     "J": {"kg": 1, "m": 2, "s": -2},
+    "W": {"kg": 1, "m": 2, "s": -3},
+    "J/s": {"kg": 1, "m": 2, "s": -3},  # der(W) of an energy state
     "N.m2": {"kg": 1, "m": 3, "s": -2},
 }
 

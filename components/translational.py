@@ -1,0 +1,147 @@
+"""MSL-style translational elements for joining scenes: springs and a mass with Coulomb friction.
+
+``Spring`` and ``SpringDamper`` are MSL's ``PartialCompliant`` pair: both flanges take
+the motion in and give the force out (``motion`` causality), so they sit between two
+components that compute motion. ``MassWithFriction`` is the counterpart that computes
+motion: both its flanges take the force in and give s, v, a out (MSL's *direct*
+mass), and it rides on a ``support`` (ground or a moving belt) with exact Coulomb
+stick/slip modes, the mode machine of :class:`components.spring_block.SpringBlock`.
+"""
+from __future__ import annotations
+
+import casadi as ca
+
+from .component import Component
+from .interfaces import (FIXED, FORCE_IN, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Parameter,
+                         Port, Profile, State)
+
+_COMPLIANT_PORTS = (Port("flange_a", TRANSLATIONAL, "left end"),
+                    Port("flange_b", TRANSLATIONAL, "right end"))
+_COMPLIANT_PROFILES = (Profile("between_masses", "motion of both ends in, forces out",
+                               {"flange_a": MOTION_IN, "flange_b": MOTION_IN}),)
+
+
+def _compliant(e, force, p):
+    """MSL PartialCompliant: f acts +s on flange_b's side, -s on flange_a's."""
+    a, b = e.port("flange_a"), e.port("flange_b")
+    s_rel = b.s - a.s
+    f = force(s_rel - p.s_rel0, b.v - a.v)
+    # a flow is the force ON this component: a stretched spring is pulled +s at b, -s at a
+    e.residual(b.f - f)
+    e.residual(a.f + f)
+    e.output("f", f, "N", "spring force, positive in tension")
+    e.output("s_rel", s_rel, "m", "flange_b.s - flange_a.s")
+    return s_rel
+
+
+class Spring(Component):
+    """Linear massless spring between two flanges (MSL Translational.Components.Spring).
+
+    ``f = c (s_rel - s_rel0)`` with ``s_rel = flange_b.s - flange_a.s``.
+    Parameters: ``c`` [N/m] stiffness, ``s_rel0`` [m] unstretched length.
+    Connectors: ``flange_a``, ``flange_b`` — motion in, force out (connect each to a
+    component that computes motion: a mass, a kinematic source, a beam tip).
+    Outputs: ``f`` [N] tension, ``s_rel`` [m], ``E`` [J] elastic energy.
+    """
+
+    parameters = (Parameter("c", 1.0, "N/m", "stiffness", min=0.0),
+                  Parameter("s_rel0", 0.0, "m", "unstretched length"))
+    ports, profiles = _COMPLIANT_PORTS, _COMPLIANT_PROFILES
+
+    def equations(self, e):
+        p = e.p
+        s_rel = _compliant(e, lambda stretch, _: p.c * stretch, p)
+        e.output("E", p.c * (s_rel - p.s_rel0)**2 / 2, "J", "elastic energy")
+
+
+class SpringDamper(Component):
+    """Spring and dashpot in parallel (MSL Translational.Components.SpringDamper).
+
+    ``f = c (s_rel - s_rel0) + d (v_b - v_a)``.
+    Parameters: ``c`` [N/m], ``d`` [N.s/m], ``s_rel0`` [m].
+    Connectors: ``flange_a``, ``flange_b`` — motion in, force out.
+    Outputs: ``f`` [N], ``s_rel`` [m], ``E`` [J] elastic energy, ``P_loss`` [W] power
+    dissipated by the dashpot.
+    """
+
+    parameters = (Parameter("c", 1.0, "N/m", "stiffness", min=0.0),
+                  Parameter("d", 0.1, "N.s/m", "damping coefficient", min=0.0),
+                  Parameter("s_rel0", 0.0, "m", "unstretched length"))
+    ports, profiles = _COMPLIANT_PORTS, _COMPLIANT_PROFILES
+
+    def equations(self, e):
+        p = e.p
+        a, b = e.port("flange_a"), e.port("flange_b")
+        s_rel = _compliant(e, lambda stretch, v_rel: p.c * stretch + p.d * v_rel, p)
+        e.output("E", p.c * (s_rel - p.s_rel0)**2 / 2, "J", "elastic energy")
+        e.output("P_loss", p.d * (b.v - a.v)**2, "W", "power dissipated by the dashpot")
+
+
+class MassWithFriction(Component):
+    """Sliding mass with exact Coulomb friction against a support (cf. MSL MassWithStopAndFriction).
+
+    ``m (support.a + x'') = flange_a.f + flange_b.f + f`` with normal load ``m g`` and
+    ``f`` the friction from the support: stuck (mode 0) the block moves with the
+    support and ``|f| <= mu_s m g``; sliding (mode ±1) ``f = -mu_k m g mode``. Events
+    switch the modes exactly as in SpringBlock (incipient sliding at the static limit,
+    re-stick when the relative velocity reaches zero).
+    Parameters: ``m`` [kg], ``g`` [m/s2], ``mu_k``, ``mu_s`` [1].
+    States: ``x`` [m], ``v`` [m/s] relative to the support (so "stuck" is exactly v = 0
+    however the support moves).
+    Mode: ``mode`` -1 sliding backward, 0 stuck, +1 sliding forward (relative to support).
+    Connectors: ``flange_a``, ``flange_b`` — the block (force in; s, v, a out);
+    ``support`` — the surface: ``fixed`` (ground) or motion in, friction reaction out.
+    Outputs: ``s`` [m] absolute position, ``v_abs`` [m/s], ``f_friction`` [N],
+    ``P_friction`` [W] power dissipated by friction (``-f v``, >= 0).
+    """
+
+    parameters = (
+        Parameter("m", 1.0, "kg", "mass of the block", min=0.0, min_strict=True),
+        Parameter("g", 9.81, "m/s2", "gravity, pressing the block on the support", min=0.0),
+        Parameter("mu_k", 0.3, "1", "kinetic friction coefficient", min=0.0),
+        Parameter("mu_s", 0.4, "1", "static friction coefficient", min=0.0),
+    )
+    constraints = (Constraint(lambda p: p.mu_s - p.mu_k, "mu_k <= mu_s"),)
+    states = (State("x", 0.0, "m", "position of the block relative to the support"),
+              State("v", 0.0, "m/s", "velocity of the block relative to the support"))
+    modes = (Mode("mode", 0, "friction mode: -1 sliding backward, 0 stuck, +1 sliding forward"),)
+    ports = (Port("flange_a", TRANSLATIONAL, "left side of the block"),
+             Port("flange_b", TRANSLATIONAL, "right side of the block"),
+             Port("support", TRANSLATIONAL, "surface the block slides on"))
+    profiles = (
+        Profile("on_ground", "forces in, motion out; fixed surface",
+                {"flange_a": FORCE_IN, "flange_b": FORCE_IN, "support": FIXED}),
+        Profile("on_moving_support", "forces in, motion out; surface moved by an input",
+                {"flange_a": FORCE_IN, "flange_b": FORCE_IN, "support": MOTION_IN}),
+    )
+
+    def equations(self, e):
+        p, x, v, a, mode = e.p, e.x.x, e.x.v, e.der.v, e.q.mode
+        fa, fb, support = e.port("flange_a"), e.port("flange_b"), e.port("support")
+        f = e.unknown("f")
+        normal = p.m * p.g
+        f_applied = fa.f + fb.f - p.m * support.a  # all but friction, in the support's frame
+        e.residual(e.der.x - v)
+        e.residual(p.m * (support.a + a) - fa.f - fb.f - f)
+        for flange in (fa, fb):
+            e.residual(flange.s - (support.s + x))
+            e.residual(flange.v - (support.v + v))
+            e.residual(flange.a - (support.a + a))
+        e.residual(support.f - f)
+        e.residual(ca.if_else(mode == 0, a, f + p.mu_k * normal * mode))
+        e.indicator(ca.if_else(mode == 0, p.mu_s * normal - f_applied, mode * v),
+                    "stuck: static margin for forward slip; sliding: relative speed")
+        e.indicator(ca.if_else(mode == 0, p.mu_s * normal + f_applied, 1),
+                    "stuck: static margin for backward slip")
+        # an event at the margin's zero must break free, or the block would stay stuck
+        breaks_free = ca.if_else(f_applied >= p.mu_s * normal, 1,
+                                 ca.if_else(f_applied <= -p.mu_s * normal, -1, 0))
+        stopped = ca.logic_and(mode != 0, mode * v <= 0)
+        v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
+        e.jump("v", v_new)
+        e.jump("mode", ca.if_else(ca.logic_or(stopped, mode == 0),
+                                  ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), mode))
+        e.output("s", support.s + x, "m", "absolute position of the block")
+        e.output("v_abs", support.v + v, "m/s", "absolute velocity of the block")
+        e.output("f_friction", f, "N", "friction force on the block")
+        e.output("P_friction", -f * v, "W", "power dissipated by friction")
