@@ -29,6 +29,7 @@ from fmus import build_fmu
 
 from .adaptive import StepController
 from .assembly import Assembly, AssemblyError
+from .experiment import check_experiment
 from .extrapolation import ORDERS, step_mean
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 from .result import Result, Table
@@ -42,9 +43,25 @@ class _Instance:
     """One FMU instance in a running co-simulation."""
 
     def __init__(self, name: str, component, tolerance: float):
-        self.name = name
-        self.component = component
-        # built with class defaults, so parameter studies reuse one compiled FMU
+        path, md = self._load(name, component)
+        self.states = [u.variable.derivative.name for u in md.derivatives]
+        # inputs the FMU extrapolates itself (they have a derivative input: s by v, v by a);
+        # the model description does not say so, the flattened component does
+        self.chained = {v.name for v in flatten(component).inputs if v.derivative_input is not None}
+        self._unzipped = extract(path)
+        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=self._unzipped,
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu.instantiate(loggingOn=False, logMessage=self._log,
+                             intermediateUpdate=self._intermediate_update)
+        self.tolerance = tolerance
+
+    def _load(self, name: str, component):
+        """Build (or fetch) the FMU and read what a master needs from its description.
+
+        Built with the class defaults, so parameter studies reuse one compiled FMU; the
+        instance's own values are set as start values.
+        """
+        self.name, self.component = name, component
         defaults = type(component)(name=name, profile=component.profile.name,
                                    **component.option_values)
         path = build_fmu(defaults)
@@ -52,22 +69,14 @@ class _Instance:
         self.variables = {v.name: v for v in md.modelVariables}
         self.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
         self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-        # output -> the inputs it depends on (None: on every input); finds algebraic loops
-        self.depends = {u.variable.name: (None if u.dependencies is None else
+        # output -> the inputs it depends on (direct feedthrough: algebraic loops, and the
+        # order in which a master must set inputs); no list in the XML means all of them
+        self.depends = {u.variable.name: (set(self.inputs) if u.dependencies is None else
                                           {d.name for d in u.dependencies if d.causality == "input"})
                         for u in md.outputs}
-        self.states = [u.variable.derivative.name for u in md.derivatives]
-        # inputs the FMU extrapolates itself (they have a derivative input: s by v, v by a);
-        # the model description does not say so, the flattened component does
-        self.chained = {v.name for v in flatten(component).inputs if v.derivative_input is not None}
         self.messages: list[str] = []
         self.event_rows: list[list[float]] = []
-        self._unzipped = extract(path)
-        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=self._unzipped,
-                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-        self.fmu.instantiate(loggingOn=False, logMessage=self._log,
-                             intermediateUpdate=self._intermediate_update)
-        self.tolerance = tolerance
+        return path, md
 
     # callbacks from C: keep them short and never raise
     def _log(self, env, status, category, message):
@@ -273,12 +282,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     communication point to `loop_tolerance` in at most `max_loop_iterations` Newton
     iterations (plain fixed-point iteration with ``newton=False``).
     """
-    if not (math.isfinite(stop_time) and stop_time > 0):
-        raise AssemblyError(f"stop time must be a positive finite number, not {stop_time}")
-    if not (math.isfinite(step) and step > 0):
-        raise AssemblyError(f"communication step must be a positive finite number, not {step}")
-    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
-        raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
+    check_experiment(stop_time, step, tolerance)
     if scheme not in ("jacobi", "gauss-seidel"):
         raise AssemblyError(f"scheme must be 'jacobi' or 'gauss-seidel', not '{scheme}'")
     if extrapolation not in ORDERS:

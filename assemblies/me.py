@@ -18,12 +18,12 @@ import time as wallclock
 from typing import Callable
 
 import numpy as np
-from fmpy import extract, read_model_description
+from fmpy import extract
 from fmpy.fmi3 import FMU3Model
 
-from fmus import build_fmu
 
 from .assembly import Assembly, AssemblyError
+from .experiment import check_experiment
 from .cosim import SimulationError, _Instance, _record_columns
 from .hybrid import METHODS, EventOutcome, IntegrationError, integrate
 from .result import Result, Table
@@ -35,25 +35,9 @@ class _ModelInstance(_Instance):
     """One Model Exchange FMU instance; shares value access with the co-simulation one."""
 
     def __init__(self, name: str, component):  # noqa: super().__init__ would make a slave
-        self.name = name
-        self.component = component
-        defaults = type(component)(name=name, profile=component.profile.name,
-                                   **component.option_values)
-        path = build_fmu(defaults)
-        md = read_model_description(path)
-        self.variables = {v.name: v for v in md.modelVariables}
-        self.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
-        self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-        # output -> the inputs it depends on (None in the XML: on everything)
-        self.depends = {}
-        for unknown in md.outputs:
-            deps = unknown.dependencies
-            self.depends[unknown.variable.name] = (set(self.inputs) if deps is None else
-                                                   {d.name for d in deps if d.causality == "input"})
+        path, md = self._load(name, component)
         self.n_x = len(md.derivatives)
         self.n_z = md.numberOfEventIndicators or 0
-        self.messages: list[str] = []
-        self.event_rows: list[list[float]] = []
         self._unzipped = extract(path)
         self.fmu = FMU3Model(guid=md.guid, unzipDirectory=self._unzipped,
                              modelIdentifier=md.modelExchange.modelIdentifier, instanceName=name)
@@ -221,12 +205,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                 record: list[str] | None = None, method: str = "DOP853",
                 progress: Callable[[float], None] | None = None) -> Result:
     """Integrate `assembly` as Model Exchange FMUs; the table holds every `step` seconds."""
-    if not (math.isfinite(stop_time) and stop_time > 0):
-        raise AssemblyError(f"stop time must be a positive finite number, not {stop_time}")
-    if not (math.isfinite(step) and step > 0):
-        raise AssemblyError(f"output step must be a positive finite number, not {step}")
-    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
-        raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
+    check_experiment(stop_time, step, tolerance, "output step")
     if method not in METHODS:
         raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
     couplings = assembly.couplings()  # resolves the causality profiles

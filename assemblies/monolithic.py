@@ -32,6 +32,7 @@ from components.dae import flatten
 from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, Profile, State
 
 from .assembly import Assembly, AssemblyError
+from .experiment import check_experiment
 from .hybrid import METHODS, IntegrationError, integrate
 from .result import Result, Table
 
@@ -203,12 +204,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, toler
                         engine: str = "reference",
                         progress: Callable[[float], None] | None = None) -> Result:
     """Simulate the joined model; the table holds every `step` seconds (see the module doc)."""
-    if not (math.isfinite(stop_time) and stop_time > 0):
-        raise AssemblyError(f"stop time must be a positive finite number, not {stop_time}")
-    if not (math.isfinite(step) and step > 0):
-        raise AssemblyError(f"output step must be a positive finite number, not {step}")
-    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
-        raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
+    check_experiment(stop_time, step, tolerance, "output step")
     if engine == "fmu":
         return _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress)
     if engine != "reference":

@@ -1,0 +1,17 @@
+"""The checks every master makes on the experiment it is asked to run."""
+from __future__ import annotations
+
+import math
+
+from .assembly import AssemblyError
+
+
+def check_experiment(stop_time: float, step: float, tolerance: float,
+                     step_name: str = "communication step") -> None:
+    """Reject what no master can run, naming the setting and what is allowed."""
+    if not (math.isfinite(stop_time) and stop_time > 0):
+        raise AssemblyError(f"stop time must be a positive finite number, not {stop_time}")
+    if not (math.isfinite(step) and step > 0):
+        raise AssemblyError(f"{step_name} must be a positive finite number, not {step}")
+    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
+        raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
