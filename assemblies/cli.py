@@ -56,13 +56,55 @@ def _cmd_run(args) -> int:
 
     run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
                          tolerance=args.tolerance, params=_parse_params(args.param),
-                         out=args.out, scheme=args.scheme, progress=progress, mode=args.mode)
+                         out=args.out, scheme=args.scheme, progress=progress, mode=args.mode,
+                         adaptive=args.adaptive if args.adaptive is not None else False,
+                         extrapolation=args.extrapolation)
     if sys.stderr.isatty():
         print(file=sys.stderr)
     print(run.table())
     out = Path(args.out)
     print(f"wrote {out / (args.scene + '.csv')}, {out / (args.scene + '.png')}, "
           f"{out / (args.scene + '.json')}")
+    return 0
+
+
+def _cmd_export(args) -> int:
+    from assemblies.monolithic import composite
+    from assemblies.scenes import scene
+    from assemblies.ssp import export_ssp
+    from fmus import build_fmu
+    if not (args.ssp or args.fmu):
+        raise UsageError("export needs --ssp FILE.ssp and/or --fmu FILE.fmu")
+    sc = scene(args.scene)
+    for path, export in ((args.ssp, lambda a, p: export_ssp(a, p, sc.stop_time)),
+                         (args.fmu, lambda a, p: build_fmu(composite(a), p))):
+        if path:
+            asm = sc.build()
+            for key, value in _parse_params(args.param).items():
+                asm.set(key, value)
+            print(export(asm, path))
+    return 0
+
+
+def _cmd_bench(args) -> int:
+    # benchmarks/ is a development folder beside the packages, not installed with them
+    root = str(Path(__file__).resolve().parents[1])
+    if root not in sys.path:
+        sys.path.insert(0, root)
+    from benchmarks.scenes import expand
+    from benchmarks.suite import plot, run, table, write_json
+    try:
+        names = expand(args.scene)
+    except KeyError as exc:
+        raise UsageError(exc.args[0]) from None
+    records, _ = run(names, quick=args.quick)
+    print(table(records))
+    out = Path(args.out)
+    for name in names:
+        print(f"wrote {plot(records, name, out / f'bench_{name}.png')}")
+    if args.json:
+        write_json(records, Path(args.json))
+        print(f"wrote {args.json}")
     return 0
 
 
@@ -89,11 +131,32 @@ def _parser() -> argparse.ArgumentParser:
                    help="parameter, option or start value (repeatable)")
     r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"), default="jacobi",
                    help="co-simulation sweep (mode cosim only)")
+    r.add_argument("--extrapolation", type=int, choices=(0, 1, 2), default=0,
+                   help="order of the input extrapolation held over a step: 0 constant, "
+                        "1 linear, 2 quadratic (mode cosim only; default: 0)")
+    r.add_argument("--adaptive", type=float, nargs="?", const=1e-4, metavar="TOL",
+                   help="adaptive communication step with step-doubling error control to TOL "
+                        "(absolute, default 1e-4); --step becomes the output interval "
+                        "(mode cosim only)")
     r.add_argument("--mode", choices=("cosim", "me", "monolithic"), default="cosim",
                    help="master: co-simulation, one solver over Model Exchange FMUs, or the "
                         "joined model (default: cosim)")
     r.add_argument("--out", default="out", help="output folder (default: out)")
     r.set_defaults(fn=_cmd_run)
+    x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU")
+    x.add_argument("scene")
+    x.add_argument("--ssp", metavar="FILE.ssp", help="SSP 1.0: the FMUs and SystemStructure.ssd")
+    x.add_argument("--fmu", metavar="FILE.fmu", help="the joined (monolithic) model as one FMU")
+    x.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
+                   help="parameter, option or start value (repeatable)")
+    x.set_defaults(fn=_cmd_export)
+    k = sub.add_parser("bench", help="work-precision benchmark of a scene: table, log-log plot")
+    k.add_argument("scene", help="stick_slip, stick_slip_smooth, beam_N4..beam_N32, beam, "
+                                 "axle_pendulum, coin_rolling, moving_table or all")
+    k.add_argument("--quick", action="store_true", help="three tolerances instead of eight")
+    k.add_argument("--json", metavar="FILE", help="write the records as a JSON list")
+    k.add_argument("--out", default="out", help="folder for the plot (default: out)")
+    k.set_defaults(fn=_cmd_bench)
     return parser
 
 

@@ -5,56 +5,15 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
+
+from benchmarks.references import coulomb_drag
 
 # seed Eq. 9.4
 SEED_94 = dict(m=1.0, k=1.0, g=1.0, mu_k=0.3, mu_s=0.4)
 SEED_94_SPEED = 0.05
 
 
-def coulomb_drag_reference(m, k, g, mu_k, mu_s, v, t_end):
-    """Piecewise exact solution of m x'' = k (v t - x) + f under Coulomb friction (seed 9.2).
-
-    Derived here from the linear ODE of each phase, independently of the library:
-    stuck phases hold x until the spring force k (v t - x) reaches mu_s m g; sliding
-    phases solve m xi'' = -k xi for xi = x - v t + mu_k m g / k, until x' = 0.
-    Returns (phases, x_of_t) where phases are (kind, t_start, t_end) tuples.
-    """
-    w, N = math.sqrt(k / m), m * g
-    t, x, phases, pieces = 0.0, 0.0, [], []
-    while t < t_end:
-        t_slip = (mu_s * N / k + x) / v
-        phases.append(("stick", t, t_slip))
-        pieces.append((t, t_slip, lambda tt, x=x: np.full_like(tt, x)))
-        xi0, dxi0 = x - v * t_slip + mu_k * N / k, -v
-
-        def x_slide(tt, t0=t_slip, xi0=xi0, dxi0=dxi0):
-            tau = tt - t0
-            return v * tt - mu_k * N / k + xi0 * np.cos(w * tau) + dxi0 / w * np.sin(w * tau)
-
-        def v_slide(tau, xi0=xi0, dxi0=dxi0):
-            return v - xi0 * w * math.sin(w * tau) + dxi0 * math.cos(w * tau)
-
-        # x' > 0 right after slip starts; its first zero lies within one period
-        grid = np.linspace(1e-9, 2 * math.pi / w, 2001)
-        vals = [v_slide(s) for s in grid]
-        i = next(j for j in range(1, len(grid)) if vals[j] <= 0 < vals[j - 1])
-        tau_stop = brentq(v_slide, grid[i - 1], grid[i], xtol=1e-15, rtol=1e-15)
-        t_stick = t_slip + tau_stop
-        phases.append(("slide", t_slip, t_stick))
-        pieces.append((t_slip, t_stick, x_slide))
-        t, x = t_stick, float(x_slide(np.array(t_stick)))
-        assert abs(k * (v * t - x)) < mu_s * N, "the block re-sticks in this regime"
-
-    def x_of_t(tt):
-        tt = np.asarray(tt, dtype=float)
-        out = np.empty_like(tt)
-        for a, b, fn in pieces:
-            sel = (tt >= a) & (tt <= b)
-            out[sel] = fn(tt[sel])
-        return out
-
-    return phases, x_of_t
+coulomb_drag_reference = coulomb_drag  # the exact piecewise solution of seed 9.2
 
 
 @pytest.fixture(scope="session")

@@ -1,0 +1,142 @@
+"""The baseline an engineer writes by hand: numpy right-hand sides under scipy's solve_ivp.
+
+Written from the physics (seed 9.2, 9.5, 7.5, 8.5), not generated from our CasADi
+models: that independence is what makes them a baseline. Dry friction is handled the
+way one would by hand: terminal events at stick/slip and a restart with the mode
+switched. Every runner returns (values at the output times, rhs evaluations, steps).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+METHODS = ("RK45", "DOP853", "Radau", "LSODA")
+
+
+class _Counted:
+    """A right-hand side that counts its calls (scipy's nfev misses finite-difference Jacobians
+    for LSODA, so one counter serves every method alike)."""
+
+    def __init__(self, fn):
+        self.fn, self.calls = fn, 0
+
+    def __call__(self, t, y):
+        self.calls += 1
+        return self.fn(t, y)
+
+
+def _smooth(rhs, y0, times, method, tol, jac=None):
+    counted = _Counted(rhs)
+    # scipy's LSODA takes the Jacobian only as a callable
+    extra = {"jac": lambda t, y: jac} if jac is not None and method in ("Radau", "LSODA") else {}
+    sol = solve_ivp(counted, (times[0], times[-1]), y0, method=method, rtol=tol,
+                    atol=tol * 1e-2, dense_output=True, **extra)
+    if not sol.success:
+        raise RuntimeError(f"solve_ivp {method}: {sol.message}")
+    return sol.sol(times), counted.calls, len(sol.t) - 1
+
+
+# --- spring-block with exact Coulomb friction (stick_slip, moving_table) -----------
+@dataclass
+class CoulombBlock:
+    """m (a_sup + x'') = k (s_end - s_sup - x) + f, x relative to the support, |f| <= mu N."""
+    m: float
+    k: float
+    g: float
+    mu_k: float
+    mu_s: float
+    s_end: Callable[[float], float] = lambda t: 0.0     # spring end, absolute
+    s_sup: Callable[[float], float] = lambda t: 0.0     # support, absolute
+    a_sup: Callable[[float], float] = lambda t: 0.0     # support acceleration
+
+    def applied(self, t, x):
+        """Every force but friction, in the support's frame."""
+        return self.k * (self.s_end(t) - self.s_sup(t) - x) - self.m * self.a_sup(t)
+
+    def after_stop(self, t, x):
+        """Mode once the relative velocity is zero: stuck unless the static limit is exceeded."""
+        F, limit = self.applied(t, x), self.mu_s * self.m * self.g
+        return 0 if abs(F) < limit else int(math.copysign(1, F))
+
+
+def coulomb_block(block: CoulombBlock, x0, v0, times, method, tol):
+    """Integrate phase by phase; each phase ends at a terminal event (slip or stop)."""
+    N = block.m * block.g
+    t, y = float(times[0]), np.array([x0, v0], dtype=float)
+    mode = int(math.copysign(1, v0)) if v0 != 0 else block.after_stop(t, x0)
+    out, nfev, steps = np.empty(len(times)), 0, 0
+    while t < times[-1]:
+        if mode == 0:
+            def rhs(tt, yy):
+                return np.zeros(2)
+            # stuck: the margins of the static limit, both must stay positive
+            ev_fwd = lambda tt, yy: block.mu_s * N - block.applied(tt, yy[0])
+            ev_bwd = lambda tt, yy: block.mu_s * N + block.applied(tt, yy[0])
+            events = [ev_fwd, ev_bwd]
+        else:
+            def rhs(tt, yy, s=mode):
+                return np.array([yy[1], (block.applied(tt, yy[0]) - s * block.mu_k * N) / block.m])
+            events = [lambda tt, yy, s=mode: s * yy[1]]  # sliding stops where s v falls to 0
+        for ev in events:
+            ev.terminal, ev.direction = True, -1
+        counted = _Counted(rhs)
+        sol = solve_ivp(counted, (t, times[-1]), y, method=method, rtol=tol, atol=tol * 1e-2,
+                        events=events, dense_output=True)
+        if not sol.success:
+            raise RuntimeError(f"solve_ivp {method}: {sol.message}")
+        nfev, steps = nfev + counted.calls, steps + len(sol.t) - 1
+        t_end = sol.t[-1]
+        sel = (times >= t) & (times <= t_end)
+        out[sel] = sol.sol(times[sel])[0]
+        t, y = t_end, sol.y[:, -1].copy()
+        if sol.status == 1:  # an event: switch the mode and restart
+            if mode == 0:
+                mode = 1 if sol.t_events[0].size else -1
+            else:
+                y[1] = 0.0
+                mode = block.after_stop(t, y[0])
+    return out, nfev, steps
+
+
+# --- spring-block with the smooth law, seed Eq. 9.5 -----------------------------------
+def smooth_block(m, k, g, mu_k, mu_s, eps, speed, times, method, tol):
+    def rhs(t, y):
+        s = y[1] / eps
+        mu = mu_k * math.tanh(3 * s) + (mu_s - mu_k) * s * math.exp(0.5 - s * s / 2)
+        return np.array([y[1], (k * (speed * t - y[0]) - mu * m * g) / m])
+
+    values, nfev, steps = _smooth(rhs, np.zeros(2), times, method, tol)
+    return values[0], nfev, steps
+
+
+# --- the cantilever, M a'' + K a = 0 ----------------------------------------------------
+def beam(M, K, tip, a0, times, method, tol):
+    n = len(a0)
+    A = np.linalg.solve(M, K)
+    jac = np.block([[np.zeros((n, n)), np.eye(n)], [-A, np.zeros((n, n))]])
+
+    def rhs(t, y):
+        return np.concatenate([y[n:], -A @ y[:n]])
+
+    values, nfev, steps = _smooth(rhs, np.concatenate([a0, np.zeros(n)]), times, method, tol,
+                                  jac=jac)
+    return tip @ values[:n], nfev, steps
+
+
+# --- a rigid body on an inclined axle, J theta'' = -m g k.(n x r(theta)) ---------------
+def axle(m, g, J_n, r, n, theta0, times, method, tol):
+    r, n = np.asarray(r, float), np.asarray(n, float) / np.linalg.norm(n)
+    n_x_r, n_dot_r = np.cross(n, r), n @ r
+
+    def rhs(t, y):
+        c, s = math.cos(y[0]), math.sin(y[0])
+        r_t = c * r + s * n_x_r + (1 - c) * n_dot_r * n      # Rodrigues
+        torque = -m * g * np.cross(n, r_t)[2]
+        return np.array([y[1], torque / J_n])
+
+    values, nfev, steps = _smooth(rhs, np.array([theta0, 0.0]), times, method, tol)
+    return values[0], nfev, steps

@@ -1,0 +1,120 @@
+"""Sweep tolerances over every method of a scene: records, a table, a log–log plot, JSON."""
+from __future__ import annotations
+
+import json
+import math
+import resource
+import time
+from pathlib import Path
+
+from .runners import max_error
+from .scenes import FULL_TOLERANCES, QUICK_TOLERANCES, SCENES, expand
+
+FIELDS = ("scene", "method", "tolerance", "error", "wall_s", "rhs_evals", "steps")
+_MIN_TIMED = 0.05   # runs shorter than this are repeated, best of up to 5 (timer noise)
+# a method whose run takes longer than this skips its tighter tolerances (they only cost more)
+BUDGET_S = {True: 2.0, False: 20.0}
+
+
+def _timed(fn, tol):
+    best, result = math.inf, None
+    for _ in range(5):
+        started = time.perf_counter()
+        result = fn(tol, False)
+        best = min(best, time.perf_counter() - started)
+        if best >= _MIN_TIMED:
+            break
+    return result, best
+
+
+def run_scene(name: str, quick: bool = False, log=print, methods=None, tolerances=None,
+              case=None) -> list[dict]:
+    """Every method of one scene at every tolerance; a failed run is a record with error inf.
+
+    `methods` and `tolerances` narrow the sweep (the light test runs one of each);
+    `case` reuses an already built scene."""
+    started = time.perf_counter()
+    if case is None:  # only the beams shorten their run for --quick
+        case = SCENES[name](quick=True) if quick and name.startswith("beam_N") else SCENES[name]()
+    log(f"# {name}: reference = {case.reference_kind} (setup {time.perf_counter() - started:.1f} s)")
+    records = []
+    for method, fn in case.methods.items():
+        if methods is not None and method not in methods:
+            continue
+        for tol in tolerances or (QUICK_TOLERANCES if quick else FULL_TOLERANCES):
+            if records and records[-1]["method"] == method and records[-1]["wall_s"] > BUDGET_S[quick]:
+                log(f"  {method}: {tol:g} and tighter skipped (the last run took "
+                    f"{records[-1]['wall_s']:.1f} s > {BUDGET_S[quick]:g} s)")
+                break
+            try:
+                (values, rhs, steps), wall = _timed(fn, tol)
+                if rhs is None and steps is None and method.startswith("fmu_"):
+                    _, rhs, steps = fn(tol, True)  # an untimed run that counts the work
+                error = max_error(values, case.reference)
+            except Exception as exc:  # a method that fails is a result, not a crash
+                log(f"  {method} at {tol:g} failed: {exc}")
+                error, wall, rhs, steps = math.inf, math.nan, None, None
+            records.append(dict(zip(FIELDS, (name, method, tol, error, wall, rhs, steps))))
+    return records
+
+
+def run(scene_names: list[str], quick: bool = False, log=print) -> tuple[list[dict], dict]:
+    records, meta = [], {"peak_rss_mb": {}}
+    for group in scene_names:
+        for name in expand(group):
+            started = time.perf_counter()
+            records += run_scene(name, quick, log)
+            log(f"  {name}: {time.perf_counter() - started:.0f} s in all")
+            # ru_maxrss is in KiB on Linux and never falls: the peak so far, after this scene
+            meta["peak_rss_mb"][name] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return records, meta
+
+
+def _fmt(value, spec):
+    return "-" if value is None else format(value, spec)
+
+
+def table(records: list[dict]) -> str:
+    lines = [f"{'scene':<18} {'method':<20} {'tolerance':>9} {'error':>10} {'wall_s':>9} "
+             f"{'rhs_evals':>10} {'steps':>8}"]
+    for r in records:
+        lines.append(f"{r['scene']:<18} {r['method']:<20} {r['tolerance']:>9.0e} "
+                     f"{r['error']:>10.2e} {r['wall_s']:>9.4f} {_fmt(r['rhs_evals'], 'd'):>10} "
+                     f"{_fmt(r['steps'], 'd'):>8}")
+    return "\n".join(lines)
+
+
+def plot(records: list[dict], scene_name: str, path: Path) -> Path:
+    """Error against wall time, log–log, one line per method (runs that failed are left out)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 5))
+    ax.set_prop_cycle(color=plt.get_cmap("tab20").colors)  # up to 13 methods: no repeats
+    rows = [r for r in records if r["scene"] == scene_name]
+    for method in dict.fromkeys(r["method"] for r in rows):
+        # joined in tolerance order, loose to tight, as a work–precision line is read
+        pts = [(r["wall_s"], r["error"]) for r in sorted(rows, key=lambda r: -r["tolerance"])
+               if r["method"] == method and r["error"] is not None and r["wall_s"] is not None
+               and math.isfinite(r["error"]) and r["error"] > 0 and r["wall_s"] > 0]
+        if pts:
+            style = "-o" if method.startswith(("fmu", "master")) else "--s"
+            ax.loglog(*zip(*pts), style, label=method, markersize=4)
+    ax.set_xlabel("wall time [s]")
+    ax.set_ylabel("max |error| at the output times")
+    ax.set_title(f"{scene_name}: work–precision")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
+
+
+def write_json(records: list[dict], path: Path) -> None:
+    def clean(v):  # JSON has no inf/nan: a failed run's error and wall time become null
+        return None if isinstance(v, float) and not math.isfinite(v) else v
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps([{k: clean(v) for k, v in r.items()} for r in records], indent=1))

@@ -1,0 +1,58 @@
+"""The benchmark suite's plumbing: one tiny sweep, its JSON schema, and that its errors are
+measured against the independent reference (the full sweeps live in benchmarks/, not here)."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from benchmarks import scenes
+from benchmarks.runners import max_error
+from benchmarks.suite import FIELDS, run_scene, write_json
+from benchmarks.references import coulomb_drag
+
+
+@pytest.fixture(scope="module")
+def stick_slip_case():
+    return scenes.stick_slip()
+
+
+@pytest.fixture(scope="module")
+def records(stick_slip_case):
+    return run_scene("stick_slip", log=lambda *_: None, case=stick_slip_case,
+                     methods=("fmu_cs_dopri5", "scipy_LSODA"), tolerances=(1e-6,))
+
+
+def test_reference_is_the_analytic_piecewise_solution(stick_slip_case):
+    """The benchmark's reference is the piecewise solution, which meets the seed's numbers."""
+    phases, x_of_t = coulomb_drag(1, 1, 1, 0.3, 0.4, 0.05, 100.0)
+    assert np.max(np.abs(stick_slip_case.reference - x_of_t(stick_slip_case.times))) < 1e-12
+    (_, _, t1), (_, _, t2) = phases[0], phases[1]  # stuck until t1, sliding until t2
+    assert abs(t1 - 8.0) < 1e-12 and abs(t2 - 12.0689) < 5e-5  # seed 9.2
+    assert abs(float(x_of_t(np.array([t2]))[0]) - 0.40344) < 5e-6
+
+
+def test_json_records_have_the_schema(records, tmp_path):
+    path = tmp_path / "bench.json"
+    write_json(records, path)
+    loaded = json.loads(path.read_text())
+    assert [r["method"] for r in loaded] == ["fmu_cs_dopri5", "scipy_LSODA"]
+    for r in loaded:
+        assert tuple(r) == FIELDS
+        assert r["scene"] == "stick_slip" and r["tolerance"] == 1e-6
+        assert r["error"] >= 0 and r["wall_s"] > 0
+        assert isinstance(r["rhs_evals"], int) and isinstance(r["steps"], int)
+    # our FMU's counts come from its logSolver lines: at least one step per doStep
+    assert loaded[0]["steps"] >= len(scenes.output_times("stick_slip")) - 1
+
+
+def test_errors_are_against_the_reference(records, stick_slip_case):
+    _, x_of_t = coulomb_drag(1, 1, 1, 0.3, 0.4, 0.05, 100.0)
+    exact = x_of_t(stick_slip_case.times)
+    for r in records:
+        values, _, _ = stick_slip_case.methods[r["method"]](r["tolerance"], False)
+        assert math.isclose(r["error"], max_error(values, exact), rel_tol=1e-6, abs_tol=1e-14)
+        # a rerun against a shifted reference would differ: the error is not a constant
+        assert max_error(values, exact + 1e-3) > r["error"]
