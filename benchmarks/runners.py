@@ -16,7 +16,6 @@ from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi3 import FMU3Slave
 
 import assemblies.cosim as cosim_module
-import assemblies.me as me_module
 from assemblies.cosim import cosimulate
 from assemblies.hybrid import integrate
 from assemblies.me import simulate_me
@@ -39,21 +38,22 @@ def class_default_fmu(component):
 @contextlib.contextmanager
 def builds_memoised():
     """Let the masters find their FMUs without re-flattening and re-hashing each run: the
-    build (and its cache lookup, which regenerates the C code) is a one-time cost."""
-    memo, original = {}, (cosim_module.build_fmu, me_module.build_fmu)
+    build (and its cache lookup, which regenerates the C code) is a one-time cost. Every
+    master loads its FMUs through the co-simulation module's loader."""
+    memo, original = {}, cosim_module.build_fmu
 
     def lookup(component, *args, **kwargs):
         key = (type(component).__name__, component.profile.name,
                tuple(sorted(component.option_values.items())), args, tuple(kwargs.items()))
         if key not in memo:
-            memo[key] = original[0](component, *args, **kwargs)
+            memo[key] = original(component, *args, **kwargs)
         return memo[key]
 
-    cosim_module.build_fmu = me_module.build_fmu = lookup
+    cosim_module.build_fmu = lookup
     try:
         yield
     finally:
-        cosim_module.build_fmu, me_module.build_fmu = original
+        cosim_module.build_fmu = original
 
 
 class SingleFmu:
