@@ -7,6 +7,7 @@ import casadi as ca
 import numpy as np
 
 from .component import Component
+from .friction import coulomb_modes
 from .interfaces import (FORCE_IN, MOTION_IN, ROTATIONAL, ComponentError, Constraint, Mode,
                          Option, Parameter, Port, Profile, State)
 
@@ -192,25 +193,14 @@ class RigidBodyOnAxle(Component):
         if e.option("bearing_friction") == "none":
             e.residual(tau_f)
             return
-        mode = e.q.mode
         if not driven:  # the motion is given: friction opposes it, holds what it can at rest
             held = ca.fmin(ca.fmax(-tau_gravity, -p.tau_c), p.tau_c)
             e.residual(tau_f - ca.if_else(w == 0, held, -p.tau_c * ca.sign(w)))
             e.indicator(w, "prescribed angular velocity (reported as mode)")
             e.jump("mode", ca.sign(w))
             return
-        e.residual(ca.if_else(mode == 0, a, tau_f + p.tau_c * mode))
-        e.indicator(ca.if_else(mode == 0, p.tau_c - tau_applied, mode * w),
-                    "stuck: margin for forward slip; turning: angular velocity")
-        e.indicator(ca.if_else(mode == 0, p.tau_c + tau_applied, 1),
-                    "stuck: margin for backward slip")
-        breaks_free = ca.if_else(tau_applied >= p.tau_c, 1,
-                                 ca.if_else(tau_applied <= -p.tau_c, -1, 0))
-        stopped = ca.logic_and(mode != 0, mode * w <= 0)
-        w_new = ca.if_else(stopped, 0, w)  # exactly zero: stuck means no rotation
-        e.jump("omega", w_new)
-        e.jump("mode", ca.if_else(ca.logic_or(stopped, mode == 0),
-                                  ca.if_else(w_new == 0, breaks_free, ca.sign(w_new)), mode))
+        coulomb_modes(e, speed="omega", acceleration=a, friction=tau_f, applied=tau_applied,
+                      static_limit=p.tau_c, kinetic_limit=p.tau_c)
 
     # --- construction checks and analysis -----------------------------------------
     def validate(self) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 import casadi as ca
 
 from .component import Component
+from .friction import coulomb_modes
 from .interfaces import (FIXED, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Option, Parameter,
                          Port, Profile, State)
 
@@ -53,7 +54,7 @@ class SpringBlock(Component):
     default_stop_time = 20.0
 
     def equations(self, e):
-        p, x, v, a, mode = e.p, e.x.x, e.x.v, e.der.v, e.q.mode
+        p, x, v, a = e.p, e.x.x, e.x.v, e.der.v
         end, support = e.port("flange_a"), e.port("support")
         f = e.unknown("f")
         normal = p.m * p.g
@@ -66,20 +67,8 @@ class SpringBlock(Component):
         law = e.option("friction")
         if law == "coulomb":
             # stuck: the block moves with the support; sliding: kinetic friction against it
-            e.residual(ca.if_else(mode == 0, a, f + p.mu_k * normal * mode))
-            e.indicator(ca.if_else(mode == 0, p.mu_s * normal - f_applied, mode * v),
-                        "stuck: static margin for forward slip; sliding: relative speed")
-            e.indicator(ca.if_else(mode == 0, p.mu_s * normal + f_applied, 1),
-                        "stuck: static margin for backward slip")
-            # at the threshold itself the block breaks free: an event located exactly at
-            # the zero of the margin must switch the mode, or the block would stay stuck
-            breaks_free = ca.if_else(f_applied >= p.mu_s * normal, 1,
-                                     ca.if_else(f_applied <= -p.mu_s * normal, -1, 0))
-            stopped = ca.logic_and(mode != 0, mode * v <= 0)
-            v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
-            e.jump("v", v_new)
-            e.jump("mode", ca.if_else(ca.logic_or(stopped, mode == 0),
-                                      ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), mode))
+            coulomb_modes(e, speed="v", acceleration=a, friction=f, applied=f_applied,
+                          static_limit=p.mu_s * normal, kinetic_limit=p.mu_k * normal)
         else:
             s = v / p.eps
             if law == "smooth":  # seed Eq. 9.5

@@ -9,9 +9,8 @@ stick/slip modes, the mode machine of :class:`components.spring_block.SpringBloc
 """
 from __future__ import annotations
 
-import casadi as ca
-
 from .component import Component
+from .friction import coulomb_modes
 from .interfaces import (FIXED, FORCE_IN, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Parameter,
                          Port, Profile, State)
 
@@ -116,7 +115,7 @@ class MassWithFriction(Component):
     )
 
     def equations(self, e):
-        p, x, v, a, mode = e.p, e.x.x, e.x.v, e.der.v, e.q.mode
+        p, x, v, a = e.p, e.x.x, e.x.v, e.der.v
         fa, fb, support = e.port("flange_a"), e.port("flange_b"), e.port("support")
         f = e.unknown("f")
         normal = p.m * p.g
@@ -128,19 +127,8 @@ class MassWithFriction(Component):
             e.residual(flange.v - (support.v + v))
             e.residual(flange.a - (support.a + a))
         e.residual(support.f - f)
-        e.residual(ca.if_else(mode == 0, a, f + p.mu_k * normal * mode))
-        e.indicator(ca.if_else(mode == 0, p.mu_s * normal - f_applied, mode * v),
-                    "stuck: static margin for forward slip; sliding: relative speed")
-        e.indicator(ca.if_else(mode == 0, p.mu_s * normal + f_applied, 1),
-                    "stuck: static margin for backward slip")
-        # an event at the margin's zero must break free, or the block would stay stuck
-        breaks_free = ca.if_else(f_applied >= p.mu_s * normal, 1,
-                                 ca.if_else(f_applied <= -p.mu_s * normal, -1, 0))
-        stopped = ca.logic_and(mode != 0, mode * v <= 0)
-        v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
-        e.jump("v", v_new)
-        e.jump("mode", ca.if_else(ca.logic_or(stopped, mode == 0),
-                                  ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), mode))
+        coulomb_modes(e, speed="v", acceleration=a, friction=f, applied=f_applied,
+                      static_limit=p.mu_s * normal, kinetic_limit=p.mu_k * normal)
         e.output("s", support.s + x, "m", "absolute position of the block")
         e.output("v_abs", support.v + v, "m/s", "absolute velocity of the block")
         e.output("f_friction", f, "N", "friction force on the block")

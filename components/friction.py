@@ -1,0 +1,37 @@
+"""Exact Coulomb friction at one sliding contact, as a mode machine (seed Eq. 9.3).
+
+Shared by every component with dry friction, so stick, slip and incipient sliding
+mean the same everywhere: mode -1 slides backward, 0 sticks, +1 slides forward;
+while stuck the relative acceleration is exactly zero and the friction is whatever
+holds it there; events end a stick when the needed friction reaches the static limit
+and end a slide when the relative velocity reaches zero.
+"""
+from __future__ import annotations
+
+import casadi as ca
+
+
+def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limit,
+                  kinetic_limit, mode: str = "mode") -> None:
+    """Write the residual, indicators and jumps of exact Coulomb friction.
+
+    `speed` names the state holding the relative velocity (it is reset to exactly 0
+    when a slide ends), `acceleration` is its derivative and `friction` the friction
+    force or torque (both unknowns of `e`), `applied` everything but friction in the
+    contact's frame, and the limits are mu_s N and mu_k N (or torques).
+    """
+    q, v = getattr(e.q, mode), getattr(e.x, speed)
+    e.residual(ca.if_else(q == 0, acceleration, friction + kinetic_limit * q))
+    e.indicator(ca.if_else(q == 0, static_limit - applied, q * v),
+                "stuck: static margin for forward slip; sliding: relative speed")
+    e.indicator(ca.if_else(q == 0, static_limit + applied, 1),
+                "stuck: static margin for backward slip")
+    # at the threshold itself the contact breaks free: an event located exactly at the
+    # zero of the margin must switch the mode, or the contact would stay stuck
+    breaks_free = ca.if_else(applied >= static_limit, 1,
+                             ca.if_else(applied <= -static_limit, -1, 0))
+    stopped = ca.logic_and(q != 0, q * v <= 0)
+    v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
+    e.jump(speed, v_new)
+    e.jump(mode, ca.if_else(ca.logic_or(stopped, q == 0),
+                            ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
