@@ -1,6 +1,6 @@
 """The baseline an engineer writes by hand: numpy right-hand sides under scipy's solve_ivp.
 
-Written from the physics (seed 9.2, 9.5, 7.5, 8.5), not generated from our CasADi
+Written from the physics (seed 9.2, 9.5, 7.5, 8.5, 6.1–6.5), not generated from our CasADi
 models: that independence is what makes them a baseline. Dry friction is handled the
 way one would by hand: terminal events at stick/slip and a restart with the mode
 switched. Every runner returns (values at the output times, rhs evaluations, steps).
@@ -140,3 +140,59 @@ def axle(m, g, J_n, r, n, theta0, times, method, tol):
 
     values, nfev, steps = _smooth(rhs, np.array([theta0, 0.0]), times, method, tol)
     return values[0], nfev, steps
+
+
+# --- the rolling coin, seed ch. 6: Newton–Euler about the contact point ------------------
+def coin_derivatives(state, m, R, g):
+    """d/dt of (x, y, phi, theta, psi, phi', theta', psi') for a thin disk rolling on z = 0.
+
+    By hand from seed 6.1–6.5 with (3,1,3) Euler angles q = (phi, theta, psi):
+    v_G = -R J(q) q' (6.1–6.3), omega = W(q) q' (4.6), so a_G = -R (J q'' + J' q') and
+    alpha = W q'' + W' q' (4.10). Angular momentum about C (6.5) with r = r_G/C then reads
+        (I W - m R S(r) J) q'' = -m g r x e3 + m R r x (J' q') - I W' q' - omega x I omega,
+    a 3x3 system. I_cm = I_d 1 + (I_a - I_d) n n^T, n = the coin's normal (axisymmetric).
+    """
+    _, _, phi, theta, _, phd, thd, psd = state
+    cf, sf, ct, st = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta)
+    I_d, I_a = m * R * R / 4, m * R * R / 2
+    J = np.array([[cf * ct, -st * sf, cf], [sf * ct, st * cf, sf], [0.0, -ct, 0.0]])
+    Jdot_qd = np.array([
+        (-sf * ct * phd - cf * st * thd) * phd + (-ct * sf * thd - st * cf * phd) * thd
+        - sf * phd * psd,
+        (cf * ct * phd - sf * st * thd) * phd + (ct * cf * thd - st * sf * phd) * thd
+        + cf * phd * psd,
+        st * thd * thd])
+    W = np.array([[0.0, cf, st * sf], [0.0, sf, -st * cf], [1.0, 0.0, ct]])
+    Wdot_qd = np.array([-sf * phd * thd + (ct * sf * thd + st * cf * phd) * psd,
+                        cf * phd * thd + (st * sf * phd - ct * cf * thd) * psd,
+                        -st * thd * psd])
+    qd = np.array([phd, thd, psd])
+    v_G = -R * (J @ qd)
+    omega = W @ qd
+    n = np.array([st * sf, -st * cf, ct])
+    I_cm = I_d * np.eye(3) + (I_a - I_d) * np.outer(n, n)
+    r = R * np.array([-sf * ct, cf * ct, st])
+    S_r = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+    A = I_cm @ W - m * R * (S_r @ J)
+    b = (-m * g * np.array([r[1], -r[0], 0.0])          # r x e3
+         + m * R * (S_r @ Jdot_qd) - I_cm @ Wdot_qd - np.cross(omega, I_cm @ omega))
+    qdd = np.linalg.solve(A, b)
+    return np.array([v_G[0], v_G[1], phd, thd, psd, qdd[0], qdd[1], qdd[2]])
+
+
+def coin(m, R, g, theta_min, y0, times, method, tol):
+    """theta at the output times; the run ends early (error) if the coin falls flat."""
+    def rhs(t, y):
+        return coin_derivatives(y, m, R, g)
+
+    def flat(t, y):
+        return math.sin(y[3]) - math.sin(theta_min)
+    flat.terminal, flat.direction = True, -1
+    counted = _Counted(rhs)
+    sol = solve_ivp(counted, (times[0], times[-1]), np.asarray(y0, float), method=method,
+                    rtol=tol, atol=tol * 1e-2, dense_output=True, events=flat)
+    if not sol.success:
+        raise RuntimeError(f"solve_ivp {method}: {sol.message}")
+    if sol.status == 1:
+        raise RuntimeError(f"coin fell flat at t = {sol.t[-1]:.6g}")
+    return sol.sol(times)[3], counted.calls, len(sol.t) - 1

@@ -219,6 +219,18 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
             "", "## Peak memory", "",
             "Process peak RSS (ru_maxrss) after each scene, cumulative: " +
             ", ".join(f"{k} {v:.0f} MB" for k, v in meta["peak_rss_mb"].items()) + ".", ""]
+    quick_file = HERE / "quick_timings.json"
+    if quick_file.exists():  # measured by hand, see the file's "command"
+        quick = json.loads(quick_file.read_text())
+        out += ["## Quick mode timings", "",
+                f"`{quick['command']}`, {quick['machine']}; total is the whole command's wall "
+                "time (Python start, setup with cached FMU lookups and references, the sweep, "
+                "the plot); setup is the suite's own line. Target: under a minute per scene.", "",
+                "| scene | total | setup (build lookup, reference) | note |",
+                "| --- | --- | --- | --- |"]
+        out += [f"| {k} | {v['total_s']:.1f} s | {v['setup_s']:.1f} s | {v.get('note', '')} |"
+                for k, v in quick["scenes"].items()]
+        out.append("")
     out += ["## Work–precision per scene", ""]
     for name, path in plots.items():
         rows = [r for r in records if r["scene"] == name]
@@ -231,9 +243,14 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
                        f"{r['steps'] if r['steps'] is not None else '-'} |")
         out.append("")
     out += ["## Known weaknesses of this suite", "",
-            "- `coin_rolling` has no hand-written scipy baseline yet (its RHS is the longest to "
-            "derive by hand); its reference is the joined CasADi model at rtol 1e-13, so its "
-            "errors are not independent of our equations.",
+            "- `coin_rolling`'s reference is the joined CasADi model at rtol 1e-13, so its "
+            "errors are not independent of our equations; the hand-written numpy coin "
+            "(benchmarks/baselines.py, Newton–Euler about C) agrees with that model's "
+            "derivatives to round-off (tests/integration/test_bench.py)"
+            + ("" if any(r["scene"] == "coin_rolling" and r["method"].startswith("scipy_")
+                         for r in records)
+               else ", but results.json predates it: its scipy rows come with the next full "
+                    "run") + ".",
             "- `moving_table`'s reference is the monolithic master at rtol 1e-12, so the "
             "monolithic rows at tight tolerance compare with themselves.",
             "- `fmu_me_cvode` steps are not exposed by `fmpy.simulate_fmu` (null); its RHS "

@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 from .runners import max_error
-from .scenes import FULL_TOLERANCES, QUICK_TOLERANCES, SCENES, expand
+from .scenes import FULL_TOLERANCES, QUICK_SKIP, QUICK_TOLERANCES, SCENES, expand
 
 FIELDS = ("scene", "method", "tolerance", "error", "wall_s", "rhs_evals", "steps")
 _MIN_TIMED = 0.05   # runs shorter than this are repeated, best of up to 5 (timer noise)
@@ -38,8 +38,11 @@ def run_scene(name: str, quick: bool = False, log=print, methods=None, tolerance
         case = SCENES[name](quick=True) if quick and name.startswith("beam_N") else SCENES[name]()
     log(f"# {name}: reference = {case.reference_kind} (setup {time.perf_counter() - started:.1f} s)")
     records = []
+    skipped = [m for m in QUICK_SKIP.get(name, ()) if quick and methods is None]
+    if skipped:
+        log(f"  --quick skips {', '.join(skipped)} on {name} (the full sweep runs them)")
     for method, fn in case.methods.items():
-        if methods is not None and method not in methods:
+        if (methods is not None and method not in methods) or method in skipped:
             continue
         for tol in tolerances or (QUICK_TOLERANCES if quick else FULL_TOLERANCES):
             if records and records[-1]["method"] == method and records[-1]["wall_s"] > BUDGET_S[quick]:

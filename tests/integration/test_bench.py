@@ -56,3 +56,29 @@ def test_errors_are_against_the_reference(records, stick_slip_case):
         assert math.isclose(r["error"], max_error(values, exact), rel_tol=1e-6, abs_tol=1e-14)
         # a rerun against a shifted reference would differ: the error is not a constant
         assert max_error(values, exact + 1e-3) > r["error"]
+
+
+def test_coin_baseline_agrees_with_the_component_and_with_lagrange():
+    """The hand-written numpy coin (Newton–Euler about C, one 3x3 solve) gives the same
+    eight derivatives as the library's CasADi component and the same Euler accelerations as
+    the independent Lagrange-multiplier model in tests/coin_reference.py."""
+    from benchmarks.baselines import coin_derivatives
+    from coin_reference import accelerations
+    from components.dae import flatten
+    from components.rolling_coin import RollingCoin
+
+    m, R, g = 1.3, 0.7, 9.0
+    model = flatten(RollingCoin(m=m, R=R, g=g))
+    ode = model.functions()["ode"]
+    _, q, u, p = model.start_vectors()
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        state = np.concatenate([rng.uniform(-1, 1, 2), [rng.uniform(-3, 3),
+                                rng.uniform(0.15, math.pi - 0.15), rng.uniform(-3, 3)],
+                                rng.uniform(-6, 6, 3)])
+        mine = coin_derivatives(state, m, R, g)
+        theirs = np.array(ode(0.0, state, q, u, p)).ravel()
+        scale = max(1.0, np.abs(theirs).max())
+        assert np.abs(mine - theirs).max() < 1e-10 * scale
+        lagrange, _ = accelerations(state[2:], m, R, g)
+        assert np.abs(mine[5:] - lagrange).max() < 1e-10 * scale
