@@ -117,7 +117,7 @@ class Assembly:
         self.resolve_causality()
         out, fed = [], {}
         for conn in self.connections:
-            (ia, pa, ca), (ib, pb, cb) = self._port(conn.a), self._port(conn.b)
+            (ia, pa, ca), (ib, pb, _) = self._port(conn.a), self._port(conn.b)
             if pa.domain.flow is None:
                 src, dst = ((ia, pa), (ib, pb)) if ca == SIGNAL_OUT else ((ib, pb), (ia, pa))
                 out.append(Coupling((src[0], src[1].name), (dst[0], dst[1].name)))

@@ -63,9 +63,10 @@ def integrate(system: HybridSystem, y0: np.ndarray, stop_time: float, output_tim
     The system's initial event iteration (at t = 0) must already be done.
     `terminated` is ``(time, message)`` when the system ended the run, else None.
     """
-    if method not in METHODS:
+    own = getattr(system, "stepper", None)  # a system may bring a method of its own (CVODES)
+    if method not in METHODS and method not in getattr(system, "stepper_methods", ()):
         raise IntegrationError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
-    solver_class = METHODS[method]
+    solver_class = METHODS.get(method) or own
     stats = Statistics()
     t, y = 0.0, np.asarray(y0, dtype=float)
     rows, k = [], 0
@@ -90,8 +91,13 @@ def integrate(system: HybridSystem, y0: np.ndarray, stop_time: float, output_tim
         # implicit methods get the exact Jacobian when the system has one (the CasADi model)
         extra = ({"jac": system.jacobian} if method in ("Radau", "BDF", "LSODA")
                  and hasattr(system, "jacobian") else {})
-        solver = solver_class(rhs, t, y, bound, rtol=rtol, atol=atol, max_step=max_step,
-                              **extra) if len(y) else _NoStates(t, bound)
+        if not len(y):
+            solver = _NoStates(t, bound)
+        elif method in METHODS:
+            solver = solver_class(rhs, t, y, bound, rtol=rtol, atol=atol, max_step=max_step,
+                                  **extra)
+        else:
+            solver = own(method, t, y, bound, rtol=rtol, atol=atol)
         event_at = None
         while solver.status == "running":
             message = solver.step()

@@ -18,6 +18,7 @@ Two ways to run it:
 """
 from __future__ import annotations
 
+import functools
 import math
 import time as wallclock
 from dataclasses import dataclass
@@ -149,6 +150,40 @@ def join(assembly: Assembly) -> JoinedModel:
 
 
 # --- the reference integration ------------------------------------------------
+class _CasadiStepper:
+    """CasADi's own CVODES on the joined model, stepping like a scipy OdeSolver so that the
+    shared event driver (:mod:`assemblies.hybrid`) can use it: one step per output
+    interval, and "dense output" by integrating again from the step's start, so event
+    location sees CVODES's solution to its tolerance, not an interpolant.
+    """
+
+    methods = ("CVODES",)
+
+    def __init__(self, system, step, method, t, y, bound, rtol, atol):
+        self.system, self.h = system, step
+        self.t, self.y, self.t_bound, self.t_old = t, np.asarray(y, dtype=float), bound, None
+        self.status = "running"
+        self._F = system.cvodes(rtol, atol)
+
+    def _flow(self, t0, y0, t1):
+        s = self.system
+        p = np.concatenate([s.q, s.u, s.p, [t0, t1 - t0]])
+        return np.asarray(self._F(x0=y0, p=p)["xf"]).ravel()
+
+    def step(self):
+        t1 = min(self.t + self.h, self.t_bound)
+        self.t_old, y_old = self.t, self.y
+        self.y, self.t = self._flow(self.t_old, y_old, t1), t1
+        self._y_old = y_old
+        if self.t >= self.t_bound:
+            self.status = "finished"
+        return None
+
+    def dense_output(self):
+        t0, y0 = self.t_old, self._y_old
+        return lambda tt: y0 if tt == t0 else self._flow(t0, y0, tt)
+
+
 class _JoinedSystem:
     """A JoinedModel as a hybrid system for :func:`assemblies.hybrid.integrate`."""
 
@@ -164,6 +199,20 @@ class _JoinedSystem:
             *[model.signals[f"{name}.{v}"] for v in names])]) for name, names in model.outputs.items()}
         self.q, self.u, self.p = model.q0.copy(), model.u0, model.p0
         self.event_rows = {name: [] for name in model.outputs}
+        self._cvodes = {}
+
+    def cvodes(self, rtol, atol):
+        """CVODES over the unit interval tau, with t = t0 + tau dt: built once, reused for
+        every step and every bisection (modes, inputs, parameters, t0 and dt are its p)."""
+        if (rtol, atol) not in self._cvodes:
+            m = self.model
+            tau, t0, dt = ca.SX.sym("tau"), ca.SX.sym("t0"), ca.SX.sym("dt")
+            ode = dt * ca.substitute(m.xdot, m.t, t0 + tau * dt)
+            dae = {"x": m.x, "t": tau, "p": ca.vertcat(m.q, m.u, m.p, t0, dt), "ode": ode}
+            self._cvodes[(rtol, atol)] = ca.integrator(
+                "monolithic_cvodes", "cvodes", dae, 0.0, 1.0,
+                {"reltol": rtol, "abstol": atol, "max_num_steps": 1_000_000})
+        return self._cvodes[(rtol, atol)]
 
     def rhs(self, t, y):
         return np.asarray(self.ode(t, y, self.q, self.u, self.p)).ravel()
@@ -209,12 +258,15 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, toler
         return _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress)
     if engine != "reference":
         raise AssemblyError(f"engine must be 'reference' or 'fmu', not '{engine}'")
-    if method not in METHODS:
-        raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
+    if method not in METHODS and method not in _CasadiStepper.methods:
+        raise AssemblyError(f"method must be one of {', '.join((*METHODS, *_CasadiStepper.methods))}, "
+                            f"not '{method}'")
     started = wallclock.perf_counter()
     model = join(assembly)
     columns = _columns(model, record)
     system = _JoinedSystem(model, columns)
+    system.stepper = functools.partial(_CasadiStepper, system, step)
+    system.stepper_methods = _CasadiStepper.methods
     # the components' current values, not only their defaults at flatten time
     x0 = model.x0.copy()
     system.p = np.array(model.p0)
