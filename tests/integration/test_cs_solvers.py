@@ -18,7 +18,7 @@ from fmpy.fmi3 import FMU3Slave
 
 from components import SpringBlock
 from components.dae import flatten
-from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference
+from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference, exact_friction_damping
 from fmus import build_fmu
 
 VERSIONS = (2, 3)
@@ -109,17 +109,6 @@ def test_steep_friction_is_far_cheaper_implicitly_and_both_are_right(version):
     assert explicit["jac"] == 0
 
 
-def _exact_damped(t, mu=0.6):
-    """Seed 9.4 with mu = 0.6 from x0 = 6.55: half-cycles about +-mu, then stuck."""
-    turning = [6.55, -5.35, 4.15, -2.95, 1.75, -0.55]
-    x = np.full_like(t, turning[-1])
-    for n, amplitude in enumerate(turning[:-1]):
-        centre = np.copysign(mu, amplitude)
-        inside = (t >= n * np.pi) & (t <= (n + 1) * np.pi)
-        x[inside] = centre + (amplitude - centre) * np.cos(t[inside] - n * np.pi)
-    return x
-
-
 @pytest.mark.parametrize("version", VERSIONS)
 def test_both_solvers_follow_friction_damping_with_its_events(version):
     block = SpringBlock(m=1, k=1, g=1, mu_k=0.6, mu_s=0.6, x=6.55)
@@ -130,7 +119,7 @@ def test_both_solvers_follow_friction_damping_with_its_events(version):
                            relative_tolerance=1e-10,
                            start_values={**block.values, **block.starts, "solver": solver},
                            output=["x", "v", "mode"])
-        assert np.abs(res["x"] - _exact_damped(res["time"])).max() < 1e-8, solver
+        assert np.abs(res["x"] - exact_friction_damping(res["time"])).max() < 1e-8, solver
         results[solver] = res
     assert np.array_equal(results[DOPRI5]["mode"], results[RODAS3]["mode"])
     assert np.abs(results[DOPRI5]["x"] - results[RODAS3]["x"]).max() < 1e-8
