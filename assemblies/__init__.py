@@ -1,8 +1,8 @@
 """Assemblies of FMU instances, co-simulated through fmpy, and the named scenes."""
 from .assembly import Assembly, AssemblyError
-from .cosim import SimulationError, cosimulate
-from .me import simulate_me
-from .monolithic import composite, simulate_monolithic
+from .masters.cosim import SimulationError, cosimulate
+from .masters.me import simulate_me
+from .masters.monolithic import composite, simulate_monolithic
 from .result import Result, Table
 from .run import run_scene, run_scene_full
 from .scenes import SCENES, scene

@@ -69,7 +69,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_export(args) -> int:
-    from assemblies.monolithic import composite
+    from assemblies.masters.monolithic import composite
     from assemblies.scenes import scene
     from assemblies.ssp import export_ssp
     from fmus import build_fmu
@@ -163,7 +163,7 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from assemblies.assembly import AssemblyError
-    from assemblies.cosim import SimulationError
+    from assemblies.masters.cosim import SimulationError
     try:
         return args.fn(args)
     except (UsageError, ComponentError, AssemblyError, SimulationError) as exc:

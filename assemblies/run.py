@@ -6,9 +6,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .assembly import AssemblyError
-from .cosim import cosimulate
-from .me import simulate_me
-from .monolithic import simulate_monolithic
+from .masters.cosim import cosimulate
+from .masters.me import simulate_me
+from .masters.monolithic import simulate_monolithic
 from .plot import plot_result
 from .result import Result
 from .scenes import Figure, scene

@@ -15,7 +15,7 @@ import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Model, FMU3Slave
 
-from assemblies.monolithic import composite
+from assemblies.masters.monolithic import composite
 from assemblies.scenes import scene
 from components.beam import AssumedModesBeam
 from components.dae import flatten

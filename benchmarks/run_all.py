@@ -203,7 +203,7 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
             "2-state numpy RHS there is little integration work left to win.",
             "- co-simulation vs monolithic: a higher-order input extrapolation of the table "
             "motion (or the moving-support kinematics declared as a time function inside the "
-            "block's FMU), or adaptive communication steps (assemblies/cosim.py work in "
+            "block's FMU), or adaptive communication steps (assemblies/masters/cosim.py work in "
             "progress), so a given error needs fewer doSteps.",
             "- beam growth: hand the stiff high modes to RODAS3 with a banded/modal Jacobian, or "
             "integrate in modal coordinates (diagonal K, O(N) per RHS); an explicit solver on "

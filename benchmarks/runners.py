@@ -15,11 +15,11 @@ import numpy as np
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi3 import FMU3Slave
 
-import assemblies.cosim as cosim_module
-from assemblies.cosim import cosimulate
-from assemblies.hybrid import integrate
-from assemblies.me import simulate_me
-from assemblies.monolithic import _columns, _JoinedSystem, join
+import assemblies.masters.cosim as cosim_module
+from assemblies.masters.cosim import cosimulate
+from assemblies.masters.hybrid import integrate
+from assemblies.masters.me import simulate_me
+from assemblies.masters.monolithic import _columns, _JoinedSystem, join
 from components.dae import flatten
 from fmus import build_fmu
 
@@ -60,7 +60,7 @@ class SingleFmu:
     """One component's FMU, extracted once, run by hand through fmpy's low-level classes.
 
     The component has no inputs that vary (a scene's driver is joined into it with
-    assemblies.monolithic.composite): fmpy's Model Exchange loop holds inputs constant
+    assemblies.masters.monolithic.composite): fmpy's Model Exchange loop holds inputs constant
     between output points, which would be the error measured, not the solver's."""
 
     def __init__(self, component, observed: str):

@@ -14,7 +14,7 @@ from typing import Callable
 import numpy as np
 
 from assemblies.assembly import Assembly
-from assemblies.monolithic import composite
+from assemblies.masters.monolithic import composite
 from assemblies.scenes import scene
 from components.beam import AssumedModesBeam
 

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from assemblies import AssemblyError, run_scene
-from assemblies.cosim import cosimulate
-from assemblies.monolithic import simulate_monolithic
+from assemblies.masters.cosim import cosimulate
+from assemblies.masters.monolithic import simulate_monolithic
 from assemblies.scenes import scene
-from assemblies.table_scenes import PERIOD
+from assemblies.scenes.table import PERIOD
 
 # the error measure: max abs error of the block's absolute position s [m] and its
 # relative velocity v [m/s] at the output points, the two quantities the adaptive
@@ -32,7 +32,7 @@ def test_extrapolation_raises_the_order_to_what_a_held_input_allows(extrapolatio
     # holds it constant over a step; the master holds the step mean of its linear or
     # quadratic extrapolation. Theory: 1 for ZOH, 2 for both (the displacement caused
     # by a held constant is O(h^3) per step whatever the constant; see
-    # assemblies.extrapolation). Measured (s): 1.06, 1.97, 1.99.
+    # assemblies.masters.extrapolation). Measured (s): 1.06, 1.97, 1.99.
     name, stop = "moving_table", 6 * PERIOD
     steps = [PERIOD / 32, PERIOD / 64, PERIOD / 128]
     sc = scene(name)

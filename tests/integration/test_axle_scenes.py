@@ -7,7 +7,7 @@ from fmpy.validation import validate_fmu
 from scipy.integrate import quad
 
 from assemblies import cosimulate
-from assemblies.axle_scenes import AXLE_SCENES, period_from_crossings, seed_disk
+from assemblies.scenes.axle import AXLE_SCENES, period_from_crossings, seed_disk
 from components.axle import RigidBodyOnAxle
 from fmus import build_fmu
 

@@ -6,8 +6,8 @@ import pytest
 from fmpy import simulate_fmu
 from scipy.linalg import eigh
 
-from assemblies.beam_scenes import BEAM_SCENES
-from assemblies.cosim import cosimulate
+from assemblies.scenes.beam import BEAM_SCENES
+from assemblies.masters.cosim import cosimulate
 from components.beam import AssumedModesBeam
 from fmus import build_fmu
 

@@ -1,7 +1,7 @@
 """CasADi's own CVODES on the joined model (monolithic, method="CVODES") as a reference."""
 import numpy as np
 
-from assemblies.monolithic import simulate_monolithic
+from assemblies.masters.monolithic import simulate_monolithic
 from assemblies.scenes import scene
 from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference
 

@@ -7,8 +7,8 @@ import pytest
 from fmpy.validation import validate_fmu
 
 from assemblies import Assembly, cosimulate
-from assemblies.coin_plot import plot_coin
-from assemblies.coin_scenes import COIN_SCENES
+from assemblies.scenes.coin_plot import plot_coin
+from assemblies.scenes.coin import COIN_SCENES
 from components.rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
 from components.rolling_coin import RollingCoin
 from fmus import build_fmu

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from assemblies import run_scene
-from assemblies.cosim import cosimulate
-from assemblies.me import simulate_me
-from assemblies.monolithic import simulate_monolithic
+from assemblies.masters.cosim import cosimulate
+from assemblies.masters.me import simulate_me
+from assemblies.masters.monolithic import simulate_monolithic
 from assemblies.scenes import scene
 
 # (scene, stop time, compared column): long enough to hold every stick and slip event

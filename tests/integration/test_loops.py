@@ -18,7 +18,7 @@ import pytest
 from scipy.linalg import expm
 
 from assemblies import Assembly
-from assemblies.cosim import SimulationError, cosimulate
+from assemblies.masters.cosim import SimulationError, cosimulate
 from components import AssumedModesBeam, ConstantSpeed, SpringBlock
 from components.dae import flatten
 

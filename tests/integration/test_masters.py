@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from assemblies import Assembly, AssemblyError, run_scene
-from assemblies.cosim import cosimulate
-from assemblies.me import simulate_me
-from assemblies.monolithic import simulate_monolithic
+from assemblies.masters.cosim import cosimulate
+from assemblies.masters.me import simulate_me
+from assemblies.masters.monolithic import simulate_monolithic
 from assemblies.scenes import scene
-from assemblies.table_scenes import PERIOD, conveyor_median_velocity
+from assemblies.scenes.table import PERIOD, conveyor_median_velocity
 from components import AssumedModesBeam, ConstantSpeed, SpringBlock
 
 # (scene, stop time): the table scenes over six periods of the table (12 friction events)

@@ -6,8 +6,8 @@ import numpy as np
 from fmpy.ssp.simulation import simulate_ssp
 from fmpy.validation import validate_fmu
 
-from assemblies.cosim import cosimulate
-from assemblies.monolithic import composite, simulate_monolithic
+from assemblies.masters.cosim import cosimulate
+from assemblies.masters.monolithic import composite, simulate_monolithic
 from assemblies.scenes import scene
 from assemblies.ssp import SSC, export_ssp
 from fmus import build_fmu

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from fmpy.validation import validate_fmu
 
-from assemblies.axle_scenes import period_from_crossings
+from assemblies.scenes.axle import period_from_crossings
 from components import ComponentError, flatten
 from components.seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 from fmus import build_fmu

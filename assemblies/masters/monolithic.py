@@ -32,10 +32,10 @@ from components.component import Component
 from components.dae import flatten
 from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, Profile, State
 
-from .assembly import Assembly, AssemblyError
-from .experiment import check_experiment
+from ..assembly import Assembly, AssemblyError
+from ..experiment import check_experiment
+from ..result import Result, Table
 from .hybrid import METHODS, IntegrationError, integrate
-from .result import Result, Table
 
 
 @dataclass

@@ -27,12 +27,12 @@ import numpy as np
 from components.dae import flatten
 from fmus import build_fmu
 
+from ..assembly import Assembly, AssemblyError
+from ..experiment import check_experiment
+from ..result import Result, Table
 from .adaptive import StepController
-from .assembly import Assembly, AssemblyError
-from .experiment import check_experiment
 from .extrapolation import ORDERS, step_mean
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
-from .result import Result, Table
 
 
 class SimulationError(RuntimeError):

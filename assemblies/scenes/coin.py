@@ -10,11 +10,11 @@ from components.rigid_bodies import Skate, TorqueFreeBody
 from components.rolling_coin import (RollingCoin, critical_spin_squared, disk_inertias,
                                      steady_precession)
 
-from .assembly import Assembly
-from .axle_scenes import period_from_crossings
+from ..assembly import Assembly
+from ..result import Result
+from .axle import period_from_crossings
 from .coin_plot import plot_coin
-from .result import Result
-from .scenes import Figure, Scene
+from .scene import Figure, Scene
 
 COIN_OUTPUTS = ["x", "y", "z", "phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "lean",
                 "x_C", "y_C", "F_x", "F_y", "N", "E", "v_C_x", "v_C_y", "v_C_z"]

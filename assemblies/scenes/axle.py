@@ -9,9 +9,9 @@ from scipy.special import ellipk
 
 from components.axle import RigidBodyOnAxle
 
-from .assembly import Assembly
-from .result import Result
-from .scenes import Figure, Scene
+from ..assembly import Assembly
+from ..result import Result
+from .scene import Figure, Scene
 
 
 def seed_disk(m: float = 1.0, R: float = 1.0, g: float = 9.81, **values) -> RigidBodyOnAxle:

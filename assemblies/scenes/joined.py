@@ -30,10 +30,10 @@ from components.sources import ConstantSpeed
 from components.spring_block import SpringBlock
 from components.translational import MassWithFriction, Spring, SpringDamper
 
-from .assembly import Assembly
-from .axle_scenes import seed_disk
-from .result import Result
-from .scenes import Figure, Scene
+from ..assembly import Assembly
+from ..result import Result
+from .axle import seed_disk
+from .scene import Figure, Scene
 
 # --- two_block_belt ---------------------------------------------------------------
 BELT_SPEED = 0.3

@@ -1,43 +1,14 @@
-"""Scenes: named assemblies with an experiment, recorded outputs and reference figures."""
+"""Seed 9.2 and 9.4: one spring-block with Coulomb friction, dragged or let go."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Callable
 
 from components import ConstantSpeed, SpringBlock
 
-from .assembly import Assembly, AssemblyError
+from ..assembly import Assembly
+from ..result import Result
 from .references import friction_damping_turning_points, stick_slip_first_cycle
-from .result import Result
-
-
-@dataclass
-class Figure:
-    """One measured number beside its independent reference."""
-    name: str
-    description: str
-    measured: float
-    reference: float
-
-    @property
-    def error(self) -> float:
-        return abs(self.measured - self.reference)
-
-
-@dataclass
-class Scene:
-    name: str
-    description: str
-    build: Callable[[], Assembly]
-    stop_time: float
-    step: float
-    tolerance: float
-    record: list[str] | None  # None: every output of every instance
-    figures: Callable[[Result, Assembly], list[Figure]]
-    plot: list[str] = field(default_factory=list)
-    picture: Callable[[Result, str, Path], None] | None = None  # replaces the panel plot
+from .scene import Figure, Scene
 
 
 def _mode_events(result: Result, instance: str):
@@ -99,7 +70,7 @@ def _friction_damping_figures(result: Result, asm: Assembly) -> list[Figure]:
     return figures
 
 
-SCENES: dict[str, Scene] = {
+FRICTION_SCENES: dict[str, Scene] = {
     "stick_slip": Scene(
         "stick_slip", "seed 9.2: block pulled through a spring at constant speed, stick-slip",
         _stick_slip, stop_time=40.0, step=0.1, tolerance=1e-10,
@@ -111,33 +82,3 @@ SCENES: dict[str, Scene] = {
         record=["block.x", "block.v", "block.f_friction", "block.mode"],
         figures=_friction_damping_figures, plot=["block.x", "block.v"]),
 }
-
-
-from .axle_scenes import AXLE_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
-
-SCENES.update(AXLE_SCENES)
-
-from .coin_scenes import COIN_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
-
-SCENES.update(COIN_SCENES)
-
-from .beam_scenes import BEAM_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
-
-SCENES.update(BEAM_SCENES)
-
-from .table_scenes import TABLE_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
-
-SCENES.update(TABLE_SCENES)
-
-from .joined_scenes import JOINED_SCENES  # noqa: E402 - it needs Scene and Figure, defined above
-
-SCENES.update(JOINED_SCENES)
-
-
-def scene(name: str) -> Scene:
-    if name not in SCENES:
-        raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(SCENES)}")
-    return SCENES[name]
-
-
-__all__ = ["Figure", "SCENES", "Scene", "scene"]

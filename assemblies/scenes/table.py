@@ -16,9 +16,9 @@ from components.motion_sources import HarmonicMotion, SineMotion
 from components.sources import ConstantSpeed
 from components.spring_block import SpringBlock
 
-from .assembly import Assembly
-from .result import Result
-from .scenes import Figure, Scene
+from ..assembly import Assembly
+from ..result import Result
+from .scene import Figure, Scene
 
 U, OMEGA, MU, G, M = 0.1, 20.0, 0.4, 1.0, 1.0
 PERIOD = 2 * math.pi / OMEGA

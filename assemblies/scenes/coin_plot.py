@@ -9,7 +9,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only: runs headless on CI and servers
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .result import Result  # noqa: E402
+from ..result import Result  # noqa: E402
 
 
 def plot_coin(result: Result, title: str, path: str | Path, instance: str = "coin") -> None:

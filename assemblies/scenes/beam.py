@@ -14,9 +14,9 @@ from scipy.optimize import brentq
 from components.beam import AssumedModesBeam
 from components.force_sources import ConstantForce
 
-from .assembly import Assembly
-from .result import Result
-from .scenes import Figure, Scene
+from ..assembly import Assembly
+from ..result import Result
+from .scene import Figure, Scene
 
 
 def cantilever_frequencies(EI: float, L: float, m: float, k_tip: float, count: int) -> list[float]:

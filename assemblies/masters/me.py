@@ -22,11 +22,11 @@ from fmpy import extract
 from fmpy.fmi3 import FMU3Model
 
 
-from .assembly import Assembly, AssemblyError
-from .experiment import check_experiment
+from ..assembly import Assembly, AssemblyError
+from ..experiment import check_experiment
+from ..result import Result, Table
 from .cosim import SimulationError, _Instance, _record_columns
 from .hybrid import METHODS, EventOutcome, IntegrationError, integrate
-from .result import Result, Table
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 

@@ -1,0 +1,27 @@
+"""The named scenes: a registry built from one module per family.
+
+The family modules import only :mod:`.scene` (what a scene is) and their own helpers,
+never this registry, so imports go one way: registry -> families -> scene.
+"""
+from __future__ import annotations
+
+from ..assembly import AssemblyError
+from .axle import AXLE_SCENES
+from .beam import BEAM_SCENES
+from .coin import COIN_SCENES
+from .friction import FRICTION_SCENES
+from .joined import JOINED_SCENES
+from .scene import Figure, Scene
+from .table import TABLE_SCENES
+
+SCENES: dict[str, Scene] = {**FRICTION_SCENES, **AXLE_SCENES, **COIN_SCENES, **BEAM_SCENES,
+                            **TABLE_SCENES, **JOINED_SCENES}
+
+
+def scene(name: str) -> Scene:
+    if name not in SCENES:
+        raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(SCENES)}")
+    return SCENES[name]
+
+
+__all__ = ["Figure", "SCENES", "Scene", "scene"]
