@@ -72,7 +72,9 @@ def _source_names(fmi_version: int) -> list[str]:
     return ["model.c"] + [p.name for p in _c_files(fmi_version)]
 
 
-def _content_hash(*texts: str) -> str:
+def content_hash(*texts: str) -> str:
+    """Hex digest of `texts`, every runtime source and the compiler flags: the cache key
+    of anything compiled against the runtime."""
     h = hashlib.sha256()
     for text in texts:
         h.update(text.encode())
@@ -82,6 +84,17 @@ def _content_hash(*texts: str) -> str:
         h.update(path.read_bytes())
     h.update(" ".join(CFLAGS).encode())
     return h.hexdigest()
+
+
+def compile_library(c_files: list[Path], library: Path, include_dirs: list[Path],
+                    what: str) -> None:
+    """gcc with the FMUs' flags: one shared library from `c_files`. Everything mechfmu
+    compiles goes through here, so every binary is built (and hashed) the same way."""
+    cmd = (["gcc", *CFLAGS, *(f"-I{d}" for d in include_dirs), "-o", str(library)]
+           + [str(f) for f in c_files] + ["-lm"])
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        raise BuildError(f"gcc failed for {what}:\n{result.stderr}")
 
 
 def build_fmu(component: Component, output: str | os.PathLike | None = None,
@@ -100,7 +113,7 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     xml = model_description(model, identifier, "@TOKEN@", component.default_stop_time, tolerance,
                             fmi_version=fmi_version, source_files=tuple(_source_names(fmi_version)))
     html = documentation_html(model, identifier, fmi_version)
-    digest = _content_hash(f"fmi{fmi_version}", c_source, xml, html)
+    digest = content_hash(f"fmi{fmi_version}", c_source, xml, html)
     token = "{%s-%s-%s-%s-%s}" % (digest[:8], digest[8:12], digest[12:16], digest[16:20], digest[20:32])
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     if not cached.exists():
@@ -127,11 +140,8 @@ def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version
             shutil.copyfile(path, sources / path.name)
         c_files = _source_names(fmi_version)
         library = tmp / f"{identifier}.so"
-        cmd = (["gcc", *CFLAGS, f"-I{sources}", f"-I{FMI_HEADERS}", "-o", str(library)]
-               + [str(sources / name) for name in c_files] + ["-lm"])
-        result = subprocess.run(cmd, capture_output=True, text=True)
-        if result.returncode != 0:
-            raise BuildError(f"gcc failed for {identifier}:\n{result.stderr}")
+        compile_library([sources / name for name in c_files], library,
+                        [sources, FMI_HEADERS], identifier)
         if fmi_version == 3:
             (sources / "buildDescription.xml").write_text(build_description(identifier, c_files))
         partial = target.with_suffix(f".{os.getpid()}.partial")

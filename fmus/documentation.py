@@ -10,6 +10,7 @@ mode switches away and the physics of each mode becomes readable.
 from __future__ import annotations
 
 import itertools
+import math
 from html import escape
 
 import casadi as ca
@@ -49,13 +50,14 @@ def _expression(expr: ca.SX) -> str:
 def _equation_blocks(model: FlatModel) -> list[tuple[str, ca.SX, ca.SX]]:
     """(heading, xdot, outputs) once, or per combination of the declared modes' values."""
     declared = list(model.component.modes)
-    combos = list(itertools.product(*[m.values for m in declared]))
+    # counted, not listed: a composite of n friction blocks has 3^n combinations
+    n_combos = math.prod(len(m.values) for m in declared)
     both = ca.vertcat(model.xdot, model.y)
-    if not declared or len(combos) > MAX_MODE_COMBINATIONS or not ca.depends_on(both, model.q):
+    if not declared or n_combos > MAX_MODE_COMBINATIONS or not ca.depends_on(both, model.q):
         return [("", model.xdot, model.y)]
     f = ca.Function("equations", model.args, [model.xdot, model.y])
     blocks = []
-    for values in combos:
+    for values in itertools.product(*[m.values for m in declared]):
         # modes the builder added (a terminate flag) stay symbolic
         q = ca.vertcat(*[ca.SX(v) for v in values],
                        *[model.q[i] for i in range(len(declared), model.q.numel())])

@@ -2,6 +2,7 @@
  * The mechfmu runtime core; see runtime.h for the division of labour.
  */
 #include "runtime.h"
+#include "events.h"
 #include "solver.h"
 #include "solver_implicit.h"
 
@@ -14,6 +15,10 @@
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_STEPS_PER_DO_STEP 10000000L
 #define DEFAULT_TOLERANCE 1e-8
+/* interior points of each internal step at which the event indicators are sampled, so
+   that an indicator crossing twice inside one step (a slip shorter than the step)
+   is still seen */
+#define EVENT_SUBSAMPLES 4
 
 /* Phases as bits so that each function states where it is allowed with one mask. */
 enum {
@@ -59,9 +64,10 @@ struct mf_instance {
     int y_valid, xdot_valid, z_valid;
 
     double *z_prev; /* indicators just after the last accepted point / event */
+    int event_changed; /* the last event iteration changed a state or a mode */
 
     /* scratch */
-    double *ue, *x_new, *q_new, *x_tmp, *z_tmp, *z_hit, *g;
+    double *ue, *x_new, *q_new, *x_tmp, *z_hit, *z_work, *g;
     double *dd; /* the (n_x + n_y) x (n_x + n_u) Jacobian of mf_dd */
     const double **arg;
     double **res;
@@ -301,10 +307,7 @@ static int update_z(mf_instance *I, const char *fn)
     return 1;
 }
 
-static int crossed(double before, double after)
-{
-    return (before > 0.0 && after <= 0.0) || (before < 0.0 && after >= 0.0);
-}
+static int crossed(double before, double after) { return mf_crossed(before, after); }
 
 /* Applies `jump` until nothing changes, then takes the indicators at the new
    state as the reference for crossing detection (they may jump at events). */
@@ -354,6 +357,7 @@ static mf_status event_iteration(mf_instance *I, const char *fn, int *x_changed)
             log_info(I, LOG_EVENTS, "%s:   %s = %.17g", fn, name_of(I, MF_DISCRETE, i), I->q[i]);
     }
     if (x_changed) *x_changed = changed_x;
+    I->event_changed = changed_x || changed_q;
     if (!update_z(I, fn)) return MF_ERROR;
     for (i = 0; i < m->n_z; i++) {
         /* An indicator sitting exactly on zero after an event that changed
@@ -506,12 +510,12 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->x_new = dvec(model->n_x);
     I->q_new = dvec(model->n_q);
     I->x_tmp = dvec(model->n_x);
-    I->z_tmp = dvec(model->n_z);
+    I->z_work = dvec((int)MF_LOCATE_WORK(model->n_z, EVENT_SUBSAMPLES));
     I->z_hit = dvec(model->n_z);
     I->g = dvec(model->n_c);
     I->dd = dvec((model->n_x + model->n_y) * (model->n_x + model->n_u));
     if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev || !I->ue ||
-        !I->x_new || !I->q_new || !I->x_tmp || !I->z_tmp || !I->z_hit || !I->g || !I->dd)
+        !I->x_new || !I->q_new || !I->x_tmp || !I->z_work || !I->z_hit || !I->g || !I->dd)
         goto oom;
 
     /* one set of work buffers, large enough for every model function */
@@ -556,7 +560,7 @@ void mf_free(mf_instance *I)
     free(I->name);
     free(I->x); free(I->q); free(I->p); free(I->u); free(I->y); free(I->xdot); free(I->z);
     free(I->z_prev); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
-    free(I->z_tmp); free(I->z_hit); free(I->g); free(I->dd);
+    free(I->z_work); free(I->z_hit); free(I->g); free(I->dd);
     free((void *)I->arg); free(I->res); free(I->iw); free(I->w);
     free(I);
 }
@@ -1115,79 +1119,13 @@ static void solver_work(const mf_instance *I, long *n_rhs, long *n_rejected, lon
     *n_jac = I->ros.n_jac;
 }
 
-/* indicators at time t inside the last accepted step */
-static int z_inside(mf_instance *I, double t, double *z)
+/* indicators at time t inside the last accepted step (mf_indicator_fn) */
+static int z_inside(void *ctx, double t, double *z)
 {
+    mf_instance *I = (mf_instance *)ctx;
     solver_dense(I, t, I->x_tmp);
     inputs_at(I, t, I->ue);
     return call(I, &I->m->zc, t, I->x_tmp, I->q, I->ue, z, NULL);
-}
-
-/* Illinois (Anderson–Björck-like) bracketing on indicator i over [ta, tb],
-   whose sign at ta is that of fa != 0. Returns the right end of the final
-   bracket, the side on which the indicator has crossed. */
-static int locate_one(mf_instance *I, int i, double ta, double fa, double tb, double fb,
-                      double *t_root)
-{
-    /* prefer a right end strictly across zero, so that the model sees the new
-       side; accept exactly zero only if that is all the step end offers */
-    const int strict = fb != 0.0;
-    const int positive = fa > 0.0; /* the side the indicator starts on */
-    const double tol = 1e-13 * fmax(1.0, fabs(tb));
-    int side = 0, it, force_bisect = 0;
-    double width_ref = tb - ta;
-
-    for (it = 0; it < 500 && tb - ta > tol; it++) {
-        double tc, fc;
-        int across;
-        if (!force_bisect && fb != fa) tc = tb - fb * (tb - ta) / (fb - fa);
-        else tc = 0.5 * (ta + tb);
-        if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
-        force_bisect = 0;
-        if (z_inside(I, tc, I->z_tmp)) return 0;
-        fc = I->z_tmp[i];
-        if (!isfinite(fc)) return 0;
-        across = positive ? (strict ? fc < 0.0 : fc <= 0.0) : (strict ? fc > 0.0 : fc >= 0.0);
-        if (across) {
-            tb = tc;
-            fb = fc;
-            if (side == 1) fa *= 0.5;
-            side = 1;
-        } else {
-            ta = tc;
-            fa = fc;
-            if (side == -1) fb *= 0.5;
-            side = -1;
-        }
-        /* a secant creeping in from one side: halve the bracket instead */
-        if (it % 3 == 2) {
-            if (tb - ta > 0.5 * width_ref) force_bisect = 1;
-            width_ref = tb - ta;
-        }
-    }
-    *t_root = tb;
-    return 1;
-}
-
-/* The earliest crossing in the last accepted step [ta, tb]; z_b: indicators at tb. */
-static int locate_earliest(mf_instance *I, double ta, double tb, const double *z_b,
-                           double *t_event)
-{
-    const int nz = I->m->n_z;
-    double t_hit = tb;
-    int i;
-    memcpy(I->z_hit, z_b, (size_t)nz * sizeof(double));
-    for (i = 0; i < nz; i++) {
-        double t_root;
-        if (!crossed(I->z_prev[i], I->z_hit[i])) continue;
-        if (!locate_one(I, i, ta, I->z_prev[i], t_hit, I->z_hit[i], &t_root)) return 0;
-        if (t_root < t_hit) {
-            t_hit = t_root;
-            if (z_inside(I, t_hit, I->z_hit)) return 0;
-        }
-    }
-    *t_event = t_hit;
-    return 1;
 }
 
 mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time,
@@ -1235,6 +1173,18 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
             if (crossed(I->z_prev[i], I->z[i])) cross = 1;
         if (cross) {
             if (event_iteration(I, fn, NULL) != MF_OK) goto fail;
+            if (I->event_changed) {
+                /* an event like those inside the step, so an importer that records
+                   events (FMI 3 intermediate update) sees it too; one that changed
+                   nothing (an input grazing a zero) is no event */
+                events++;
+                if (I->host.event_dispatch && I->host.event_callback)
+                    I->host.event_dispatch(I->host.event_callback, I->host.environment, I->t);
+                if (model_terminates(I, fn)) {
+                    if (terminate) *terminate = 1;
+                    return MF_OK;
+                }
+            }
         } else if (m->n_z) {
             memcpy(I->z_prev, I->z, (size_t)m->n_z * sizeof(double));
         }
@@ -1242,7 +1192,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
 
     while (I->t < t_end) {
         double t_old = I->t, t_event;
-        int any = 0;
+        int found;
         mf_dopri_result r;
 
         if (++steps > MAX_STEPS_PER_DO_STEP) {
@@ -1266,16 +1216,16 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         invalidate(I);
         if (m->n_z == 0) continue;
         if (!update_z(I, fn)) goto fail;
-        for (i = 0; i < m->n_z; i++)
-            if (crossed(I->z_prev[i], I->z[i])) any = 1;
-        if (!any) {
-            memcpy(I->z_prev, I->z, (size_t)m->n_z * sizeof(double));
-            continue;
-        }
-        if (!locate_earliest(I, t_old, I->t, I->z, &t_event)) {
+        found = mf_locate_event(z_inside, I, m->n_z, t_old, I->z_prev, I->t, I->z,
+                                EVENT_SUBSAMPLES, &t_event, I->z_hit, I->z_work);
+        if (found < 0) {
             log_error(I, "%s: the event indicators could not be evaluated while locating an "
                          "event between t = %.17g and %.17g", fn, t_old, I->t);
             goto fail;
+        }
+        if (!found) {
+            memcpy(I->z_prev, I->z, (size_t)m->n_z * sizeof(double));
+            continue;
         }
         solver_dense(I, t_event, I->x);
         I->t = t_event;

@@ -1,0 +1,57 @@
+/*
+ * Event location inside one accepted solver step: the single copy shared by
+ * the FMU runtime (runtime.c, Co-Simulation doStep) and the assembly engine.
+ *
+ * It knows nothing about FMI or solvers: the caller gives a function that
+ * evaluates every event indicator at a time inside the step (from the solver's
+ * dense output, with whatever inputs hold there).
+ */
+#ifndef MECHFMU_EVENTS_H
+#define MECHFMU_EVENTS_H
+
+#include <stddef.h>
+
+/* points per step at which the sampled polynomial is searched for a dip */
+#define MF_DIP_GRID 64
+
+/* Indicators at time t inside the last accepted step; 0 on success. */
+typedef int (*mf_indicator_fn)(void *ctx, double t, double *z);
+
+/* The crossing rule: from the reference sign of `before` to zero or beyond. An
+   indicator whose reference is exactly zero never crosses. */
+int mf_crossed(double before, double after);
+
+/* Scratch doubles mf_locate_event needs for n indicators and n_sub interior points. */
+#define MF_LOCATE_WORK(n, n_sub) ((size_t)(n) * (size_t)((n_sub) + 4))
+
+/*
+ * Earliest time in (ta, tb] at which some indicator has crossed relative to its
+ * reference z_ref (mf_crossed). z_b: the indicators at tb.
+ *
+ * An indicator can cross twice inside one step (a slip shorter than a solver
+ * step): its sign at tb is then its sign at ta. To find that, the indicators are
+ * sampled at n_sub equally spaced interior points, and, from n_sub >= 2 on, the
+ * polynomial through the samples and tb is searched between them for a dip across
+ * zero; a dip is kept only if the indicator itself has crossed there. The dense
+ * output of a step is a polynomial of low degree in time (DOPRI5: 4, RODAS3: 3), so
+ * for an indicator linear in the states (a relative velocity) with n_sub >= 4 the
+ * polynomial is the indicator itself and no dip wider than 1/MF_DIP_GRID of the step
+ * is missed. The earliest crossing is then bracketed by the Illinois method.
+ *
+ * A reference of exactly zero (an indicator restarting at zero after an event,
+ * e.g. a velocity reset to 0) takes the side the indicator leaves zero to: it is
+ * replaced in z_ref by the first nonzero value sampled, and a crossing is counted
+ * from there on. So a slip that starts at an event and ends inside the next step
+ * is found too. Otherwise z_ref is not changed.
+ *
+ * Returns 1 with *t_event the right end of the final bracket (the far side of the
+ * crossing, so the model sees the new side) and z_event[n] the indicators there;
+ * 0 when nothing crossed (t_event, z_event untouched); -1 when an indicator could
+ * not be evaluated or was not finite.
+ * work: MF_LOCATE_WORK(n, n_sub) doubles of scratch.
+ */
+int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_ref, double tb,
+                    const double *z_b, int n_sub, double *t_event, double *z_event,
+                    double *work);
+
+#endif
