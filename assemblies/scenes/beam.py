@@ -16,7 +16,7 @@ from components.force_sources import ConstantForce
 
 from ..assembly import Assembly
 from ..result import Result
-from .scene import Figure, Scene
+from .scene import DRIFT, Figure, Scene, solver_accuracy
 
 
 def cantilever_frequencies(EI: float, L: float, m: float, k_tip: float, count: int) -> list[float]:
@@ -73,6 +73,26 @@ def _first_mode_frequency(result: Result, beam: AssumedModesBeam, instance: str)
     return math.pi / half_period
 
 
+def discretisation_error(beam: AssumedModesBeam, quantity) -> float:
+    """How far `quantity(beam)` of the assumed-modes model may be from the continuous beam's.
+
+    Ritz values converge monotonically, and for the sine basis like 1/N (see
+    AssumedModesBeam): error(N) = (q_N - q_2N) + error(2N), and with error(2N) <= 2/3
+    error(N) (any order >= 0.6) error(N) <= 3 |q_N - q_2N|. Another basis is measured
+    against the sine model of N = 8 and that model's own error. NaN (no estimate, so the
+    figure fails) when N cannot be doubled.
+    """
+    def sine(n):
+        return AssumedModesBeam(basis="sine", n_modes=n,
+                                **{k: beam.values[k] for k in ("EI", "L", "m", "k_tip")})
+
+    if beam.option("basis") != "sine":
+        yardstick = sine(8)
+        return abs(quantity(beam) - quantity(yardstick)) + discretisation_error(yardstick, quantity)
+    n = beam.option("n_modes")
+    return 3 * abs(quantity(beam) - quantity(sine(2 * n))) if 2 * n <= 64 else math.nan
+
+
 # --- beam_free_vibration: seed 7.5 ---------------------------------------------
 def _free_vibration() -> Assembly:
     asm = Assembly("beam_free_vibration")
@@ -85,12 +105,20 @@ def _free_vibration_figures(result: Result, asm: Assembly) -> list[Figure]:
     p = beam.values
     measured = _first_mode_frequency(result, beam, "beam")
     energy = result["beam.E"]
+    omega1 = beam.natural_frequencies()[0]
+    # the crossings of one pure cosine, on the cubic Hermite interpolant: the solver's error
+    # plus ~(omega h)^4 / 384 of the frequency (h the output interval)
+    crossing = omega1 * (omega1 * result.settings["step"]) ** 4 / 384
+    solver = solver_accuracy(result, omega1) + crossing
     return [Figure("omega1", "first natural frequency from the zero crossings [rad/s]",
-                   measured, beam.natural_frequencies()[0]),
-            Figure("omega1_EB", "the same against the exact Euler-Bernoulli beam [rad/s]",
-                   measured, cantilever_frequencies(p["EI"], p["L"], p["m"], p["k_tip"], 1)[0]),
+                   measured, omega1, solver),
+            Figure("omega1_EB", "the same against the exact Euler-Bernoulli beam [rad/s] "
+                   "(accuracy: the N-mode error, 3 x |omega1(N) - omega1(2N)|)",
+                   measured, cantilever_frequencies(p["EI"], p["L"], p["m"], p["k_tip"], 1)[0],
+                   discretisation_error(beam, lambda b: b.natural_frequencies()[0]) + solver),
             Figure("E_drift", "largest relative energy change (undamped: 0) [1]",
-                   float(np.abs(energy - energy[0]).max() / energy[0]), 0.0)]
+                   float(np.abs(energy - energy[0]).max() / energy[0]), 0.0,
+                   solver_accuracy(result, 1.0, DRIFT))]
 
 
 # --- beam_tip_force: seed 7.5 ------------------------------------------------------
@@ -105,10 +133,18 @@ def _tip_force() -> Assembly:
 def _tip_force_figures(result: Result, asm: Assembly) -> list[Figure]:
     beam, force = asm.component("beam"), asm.component("load").values["F"]
     p, settled = beam.values, result["beam.w_tip"][-1]
+    static = beam.static_tip_deflection(force)
+    # the solver's error, and what is left of the release transient: the first mode decays
+    # slowest, like exp(-zeta omega1 t) of the static deflection (damping by zeta only)
+    ringing = abs(static) * math.exp(-p["zeta"] * beam.natural_frequencies()[0]
+                                     * float(result["time"][-1]))
+    solver = solver_accuracy(result, static) + ringing
     return [Figure("w_static", "settled tip deflection vs the discretised model's [m]",
-                   settled, beam.static_tip_deflection(force)),
-            Figure("w_EB", "settled tip deflection vs F / (3 EI / L^3 + k_tip) [m]",
-                   settled, force / (3 * p["EI"] / p["L"]**3 + p["k_tip"]))]
+                   settled, static, solver),
+            Figure("w_EB", "settled tip deflection vs F / (3 EI / L^3 + k_tip) [m] "
+                   "(accuracy: the N-mode error, 3 x |w(N) - w(2N)|)",
+                   settled, force / (3 * p["EI"] / p["L"]**3 + p["k_tip"]),
+                   discretisation_error(beam, lambda b: b.static_tip_deflection(force)) + solver)]
 
 
 BEAM_SCENES: dict[str, Scene] = {
@@ -125,4 +161,4 @@ BEAM_SCENES: dict[str, Scene] = {
         figures=_tip_force_figures, plot=["beam.w_tip", "beam.E"]),
 }
 
-__all__ = ["BEAM_SCENES", "cantilever_frequencies"]
+__all__ = ["BEAM_SCENES", "cantilever_frequencies", "discretisation_error"]

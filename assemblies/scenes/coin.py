@@ -14,7 +14,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .axle import period_from_crossings
 from .coin_plot import plot_coin
-from .scene import Figure, Scene
+from .scene import DRIFT, Figure, Scene, solver_accuracy
 
 COIN_OUTPUTS = ["x", "y", "z", "phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "lean",
                 "x_C", "y_C", "F_x", "F_y", "N", "E", "v_C_x", "v_C_y", "v_C_z"]
@@ -34,12 +34,14 @@ def _drift(values: np.ndarray, relative: bool = True) -> float:
     return float(np.abs(values - values[0]).max() / scale)
 
 
-def _conservation_figures(result: Result) -> list[Figure]:
+def _conservation_figures(result: Result, asm: Assembly) -> list[Figure]:
     slip = max(float(np.abs(result[f"coin.v_C_{k}"]).max()) for k in "xyz")
+    speed = asm.component("coin").values["R"] * float(np.abs(result["coin.psi_dot"]).max())
+    # conserved exactly by the equations: what is left is the solver's error, accumulated
     return [Figure("E_drift", "largest |E - E(0)| / |E(0)| (no dissipation: 0)",
-                   _drift(result["coin.E"]), 0.0),
+                   _drift(result["coin.E"]), 0.0, solver_accuracy(result, 1.0, DRIFT)),
             Figure("v_C_max", "largest |velocity of the contact point| [m/s] (no slip: 0)",
-                   slip, 0.0)]
+                   slip, 0.0, solver_accuracy(result, speed, DRIFT))]
 
 
 # --- coin_rolling: any start given with --param coin.NAME=VALUE ---------------
@@ -70,13 +72,18 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
     period = period_from_crossings(result["time"], lean - lean.mean(), -result["coin.theta_dot"])
     frequency = 2 * math.pi / period
     measured = R * math.sqrt(max(spin**2 - frequency**2 / k, 0.0))
+    b = m * g * R / (I_d + m * R**2)
+    lean_max = abs(2 * k * spin**2 / (k * spin**2 - b) - 1)
+    # the linearisation drops terms O(lean^2) of k W^2 and b; the restoring stiffness
+    # k W^2 - b, a near cancellation just above the critical speed, magnifies them by
+    # k W^2 / (k W^2 - b) (5.8 at 1.1 x critical): relative error ~ that x lean_max^2
+    linear = k * spin**2 / (k * spin**2 - b) * (lean_max * abs(lean[0])) ** 2
     return [Figure("v_crit", "critical speed [m/s] from the lean frequency vs sqrt(g R / 3)",
-                   measured, math.sqrt(g * R / 3)),
+                   measured, math.sqrt(g * R / 3), linear, relative=True),
             Figure("lean_max", "largest |lean| / start lean vs linear: oscillation about "
                    "k W^2 lean0 / (k W^2 - b), b = m g R / (I_d + m R^2)",
-                   float(np.abs(lean).max()) / abs(lean[0]),
-                   abs(2 * k * spin**2 / (k * spin**2 - m * g * R / (I_d + m * R**2)) - 1)),
-            *_conservation_figures(result)]
+                   float(np.abs(lean).max()) / abs(lean[0]), lean_max, linear, relative=True),
+            *_conservation_figures(result, asm)]
 
 
 # --- coin_circle: steady circular rolling ------------------------------------
@@ -104,12 +111,15 @@ def fitted_circle_radius(x: np.ndarray, y: np.ndarray) -> float:
 
 def _coin_circle_figures(result: Result, asm: Assembly) -> list[Figure]:
     s, R = asm.component("coin").starts, asm.component("coin").values["R"]
+    radius = contact_circle_radius(s["theta"], s["phi_dot"], s["psi_dot"], R)
+    # an exact steady motion, neutrally stable: the solver's error accumulates along it
     return [Figure("lean_drift", "largest |theta - theta(0)| [rad] (steady: 0)",
-                   _drift(result["coin.theta"], relative=False), 0.0),
+                   _drift(result["coin.theta"], relative=False), 0.0,
+                   solver_accuracy(result, s["theta"], DRIFT)),
             Figure("r_contact", "radius of the contact path [m] vs the steady-motion relation",
-                   fitted_circle_radius(result["coin.x_C"], result["coin.y_C"]),
-                   contact_circle_radius(s["theta"], s["phi_dot"], s["psi_dot"], R)),
-            *_conservation_figures(result)]
+                   fitted_circle_radius(result["coin.x_C"], result["coin.y_C"]), radius,
+                   solver_accuracy(result, radius, DRIFT)),
+            *_conservation_figures(result, asm)]
 
 
 # --- torque_free_flip: spin about the intermediate axis ------------------------
@@ -134,13 +144,18 @@ def _torque_free_flip_figures(result: Result, asm: Assembly) -> list[Figure]:
     if i > 0:  # interpolate log w_x between the samples around the crossing
         f = (math.log(10 * abs(xi0)) - math.log(wx[i - 1])) / (math.log(wx[i]) - math.log(wx[i - 1]))
         measured = math.acosh(10.0) / (t[i - 1] + f * (t[i] - t[i - 1]))
+    # the linearisation drops terms O((w_x / W)^2) = (10 xi0 / W)^2 at the measuring point
+    # (w_y^2 falls by that much); the exact flip: on the orbit about the minor axis w_y is
+    # extreme where w_z = 0, and then energy and |H| give back w_y = -w_y(0) exactly
     return [Figure("growth", "departure rate from intermediate-axis spin [1/s] vs linearised",
-                   measured, lam),
-            Figure("H_drift", "largest relative change of |H|", _drift(result["body.H"]), 0.0),
+                   measured, lam, (10 * xi0 / W) ** 2, relative=True),
+            Figure("H_drift", "largest relative change of |H|", _drift(result["body.H"]), 0.0,
+                   solver_accuracy(result, 1.0, DRIFT)),
             Figure("T_drift", "largest relative change of the kinetic energy",
-                   _drift(result["body.T"]), 0.0),
-            Figure("flipped", "smallest w_y / w_y(0) (a flip reaches about -1)",
-                   float(result["body.w_y"].min() / W), -1.0)]
+                   _drift(result["body.T"]), 0.0, solver_accuracy(result, 1.0, DRIFT)),
+            Figure("flipped", "smallest w_y / w_y(0) vs -1 (energy and |H| where w_z = 0)",
+                   float(result["body.w_y"].min() / W), -1.0,
+                   solver_accuracy(result, 1.0, DRIFT))]
 
 
 # --- skate: seed 5.5 ----------------------------------------------------------
@@ -150,6 +165,14 @@ def _skate() -> Assembly:
     return asm
 
 
+def _skate_turn(u0: float, omega0: float, m: float, J: float, L: float):
+    """(sqrt K / L, a, t0) of the skate's turn (see skate_settled_heading)."""
+    K = (J + m * L**2) / m
+    V = math.sqrt(u0**2 + K * omega0**2)
+    a = L * V / K
+    return math.sqrt(K) / L, a, math.atanh(u0 / V) / a
+
+
 def skate_settled_heading(theta0: float, u0: float, omega0: float, m: float, J: float,
                           L: float) -> float:
     """Where the seed's skate ends up pointing. With u the knife edge's speed along the
@@ -157,12 +180,17 @@ def skate_settled_heading(theta0: float, u0: float, omega0: float, m: float, J: 
     u^2 + K omega^2 = V^2, K = (J + m L^2)/m, so u = -V tanh(a (t - t0)) with a = L V / K,
     tanh(a t0) = u0 / V, omega ~ sech, and the heading turns in all by
     sign(omega0) (sqrt K / L) (pi/2 + atan(sinh(a t0)))."""
-    K = (J + m * L**2) / m
-    V = math.sqrt(u0**2 + K * omega0**2)
-    a = L * V / K
-    t0 = math.atanh(u0 / V) / a
-    return theta0 + math.copysign(1.0, omega0) * math.sqrt(K) / L * (
+    scale, a, t0 = _skate_turn(u0, omega0, m, J, L)
+    return theta0 + math.copysign(1.0, omega0) * scale * (
         math.pi / 2 + math.atan(math.sinh(a * t0)))
+
+
+def skate_heading_to_go(u0: float, omega0: float, m: float, J: float, L: float,
+                        t: float) -> float:
+    """How far the heading still turns after time t: the sech of omega integrates to
+    (sqrt K / L) (pi/2 - atan(sinh(a (t - t0)))), exponentially small once a (t - t0) >> 1."""
+    scale, a, t0 = _skate_turn(u0, omega0, m, J, L)
+    return scale * (math.pi / 2 - math.atan(math.sinh(a * (t - t0))))
 
 
 def _skate_figures(result: Result, asm: Assembly) -> list[Figure]:
@@ -170,12 +198,18 @@ def _skate_figures(result: Result, asm: Assembly) -> list[Figure]:
     p, s = sk.values, sk.starts
     th = s["theta"]
     u0 = s["v_x"] * math.cos(th) + s["v_y"] * math.sin(th)
+    settled = skate_settled_heading(th, u0, s["omega"], p["m"], p["J"], p["L"])
+    speed = math.hypot(s["v_x"], s["v_y"])
     return [Figure("theta_end", "heading at the stop time [rad] vs the settled heading",
-                   float(result["skate.theta"][-1]),
-                   skate_settled_heading(th, u0, s["omega"], p["m"], p["J"], p["L"])),
-            Figure("E_drift", "largest relative change of the energy", _drift(result["skate.E"]), 0.0),
+                   float(result["skate.theta"][-1]), settled,
+                   skate_heading_to_go(u0, s["omega"], p["m"], p["J"], p["L"],
+                                       float(result["time"][-1]))
+                   + solver_accuracy(result, settled, DRIFT)),
+            Figure("E_drift", "largest relative change of the energy", _drift(result["skate.E"]),
+                   0.0, solver_accuracy(result, 1.0, DRIFT)),
             Figure("constraint", "largest |Eq. 5.19 residual| [m/s] (0)",
-                   float(np.abs(result["skate.constraint"]).max()), 0.0)]
+                   float(np.abs(result["skate.constraint"]).max()), 0.0,
+                   solver_accuracy(result, speed, DRIFT))]
 
 
 def _record(instance: str, names: list[str]) -> list[str]:
@@ -186,7 +220,7 @@ COIN_SCENES: dict[str, Scene] = {
     "coin_rolling": Scene(
         "coin_rolling", "seed ch. 6: a coin rolling without slip from a given state",
         _coin_rolling, stop_time=10.0, step=0.01, tolerance=1e-12,
-        record=_record("coin", COIN_OUTPUTS), figures=lambda r, a: _conservation_figures(r),
+        record=_record("coin", COIN_OUTPUTS), figures=_conservation_figures,
         plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin),
     "coin_upright": Scene(
         "coin_upright", "seed ch. 6: straight upright rolling at 1.1 x the critical speed",
@@ -211,4 +245,5 @@ COIN_SCENES: dict[str, Scene] = {
         figures=_skate_figures, plot=["skate.theta", "skate.omega", "skate.u"]),
 }
 
-__all__ = ["COIN_SCENES", "contact_circle_radius", "fitted_circle_radius", "skate_settled_heading"]
+__all__ = ["COIN_SCENES", "contact_circle_radius", "fitted_circle_radius", "skate_heading_to_go",
+           "skate_settled_heading"]

@@ -8,7 +8,7 @@ from components import ConstantSpeed, SpringBlock
 from ..assembly import Assembly
 from ..result import Result
 from .references import friction_damping_turning_points, stick_slip_first_cycle
-from .scene import Figure, Scene
+from .scene import Figure, Scene, solver_accuracy
 
 
 def _mode_events(result: Result, instance: str):
@@ -34,9 +34,10 @@ def _stick_slip_figures(result: Result, asm: Assembly) -> list[Figure]:
     events = _mode_events(result, "block")
     slip = next(((t, x) for t, x, mode in events if mode == 1), (math.nan, math.nan))
     stick = next(((t, x) for t, x, mode in events if mode == 0 and t > slip[0]), (math.nan, math.nan))
-    return [Figure("t1", "first slip time [s]", slip[0], t1),
-            Figure("t2", "first re-stick time [s]", stick[0], t2),
-            Figure("x(t2)", "position at re-stick [m]", stick[1], x2)]
+    # closed forms against located events: only the solver's error is left
+    return [Figure("t1", "first slip time [s]", slip[0], t1, solver_accuracy(result, t1)),
+            Figure("t2", "first re-stick time [s]", stick[0], t2, solver_accuracy(result, t2)),
+            Figure("x(t2)", "position at re-stick [m]", stick[1], x2, solver_accuracy(result, x2))]
 
 
 # --- friction_damping: seed 9.4 ----------------------------------------------
@@ -59,14 +60,17 @@ def _friction_damping_figures(result: Result, asm: Assembly) -> list[Figure]:
         if mode != previous:
             measured.append((t, x))
         previous = mode
+    # exact piecewise solution against located events: only the solver's error is left
     figures = []
     for n, (t_ref, x_ref) in enumerate(reference):
         t, x = measured[n] if n < len(measured) else (math.nan, math.nan)
-        figures.append(Figure(f"A{n}", f"turning point {n} [m]", x, x_ref))
+        figures.append(Figure(f"A{n}", f"turning point {n} [m]", x, x_ref,
+                              solver_accuracy(result, x_ref)))
         if n:
-            figures.append(Figure(f"t_A{n}", f"time of turning point {n} [s]", t, t_ref))
+            figures.append(Figure(f"t_A{n}", f"time of turning point {n} [s]", t, t_ref,
+                                  solver_accuracy(result, t_ref)))
     figures.append(Figure("x_end", "position at the stop time [m]", result["block.x"][-1],
-                          reference[-1][1]))
+                          reference[-1][1], solver_accuracy(result, reference[-1][1])))
     return figures
 
 

@@ -1,6 +1,7 @@
 """What a scene is: a named assembly with an experiment, recorded outputs and figures."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -11,15 +12,55 @@ from ..result import Result
 
 @dataclass
 class Figure:
-    """One measured number beside its independent reference."""
+    """One measured number beside its independent reference and the accuracy it must meet.
+
+    `accuracy` is the largest |measured - reference| the figure's method promises, in the
+    figure's unit, or, with `relative`, as a fraction of |reference|. It is derived from
+    the physics and the numerics (a solver tolerance, a stated modelling error, a
+    quadrature error estimate), never fitted to a run's error. A figure passes when its error is finite and within the accuracy: a NaN
+    measurement (an event that never came, too few samples to measure) fails, and so does
+    a figure whose accuracy was never stated (NaN, the default).
+    """
     name: str
     description: str
     measured: float
     reference: float
+    accuracy: float = math.nan
+    relative: bool = False
+
+    def __post_init__(self):
+        if self.accuracy < 0:  # False for NaN: an unstated accuracy is allowed, and fails
+            raise ValueError(f"figure '{self.name}': accuracy must be >= 0, not {self.accuracy}")
 
     @property
     def error(self) -> float:
         return abs(self.measured - self.reference)
+
+    @property
+    def bound(self) -> float:
+        """The accuracy as an absolute error bound, in the figure's unit."""
+        return self.accuracy * abs(self.reference) if self.relative else self.accuracy
+
+    @property
+    def passed(self) -> bool:
+        error, bound = self.error, self.bound
+        return bool(math.isfinite(error) and math.isfinite(bound) and error <= bound)
+
+
+def solver_accuracy(result: Result, scale: float = 1.0, factor: float = 100.0) -> float:
+    """What an error-controlled solver promises for a figure of size `scale`: `factor`
+    times the run's relative tolerance, as the solvers weigh errors (atol = rtol = tol),
+    so max(1, |scale|) carries the unit.
+
+    The default 100 covers an event time or a state at an event, located on a solution
+    whose global error is a few times the local tolerance. A drift that accumulates over a
+    long run (energy, a constraint) states its own larger factor.
+    """
+    return factor * result.settings["tolerance"] * max(1.0, abs(scale))
+
+
+DRIFT = 1e4  # conservation over a run of 1e4-1e6 steps: per-step errors of ~tol add up,
+            # partly cancelling
 
 
 @dataclass
@@ -36,4 +77,4 @@ class Scene:
     picture: Callable[[Result, str, Path], None] | None = None  # replaces the panel plot
 
 
-__all__ = ["Figure", "Scene"]
+__all__ = ["DRIFT", "Figure", "Scene", "solver_accuracy"]

@@ -124,6 +124,7 @@ def test_axle_pendulum_scene_figures():
                                                    rel=1e-13)
     assert figures["T"].error < 1e-8
     assert figures["E_drift"].error < 1e-8
+    assert all(f.passed for f in figures.values()), figures
 
 
 def test_axle_pendulum_takes_theta0():

@@ -35,6 +35,7 @@ def test_beam_friction_damper_figures():
     # spring: AssumedModesBeam(k_tip = k) (measured 1e-14 rad/s off)
     assert 8.0 < figures["t_stick"].measured < 9.0
     assert figures["omega_stuck"].error < 1e-8
+    assert all(f.passed for f in figures.values()), figures
 
 
 def test_me_and_monolithic_agree_to_the_tolerance():

@@ -76,6 +76,7 @@ def test_free_vibration_scene_measures_the_discretised_frequency(params):
     assert 0 < figures["omega1_EB"].measured / exact - 1 < 0.02
     assert figures["E_drift"].measured < 1e-6
     assert res["beam.w_tip"][0] == pytest.approx(0.1, rel=1e-14)
+    assert all(f.passed for f in figures.values()), figures
 
 
 def test_tip_force_scene_settles_at_the_static_deflection():
@@ -83,6 +84,7 @@ def test_tip_force_scene_settles_at_the_static_deflection():
     for params in ({"beam.basis": "poly2"}, {"beam.n_modes": 4}, {"beam.n_modes": 8}):
         _, figures = _run("beam_tip_force", **params)
         assert figures["w_static"].error < 1e-9 * figures["w_static"].reference
+        assert all(f.passed for f in figures.values()), figures
         errors[tuple(params.values())[0]] = figures["w_EB"].error / figures["w_EB"].reference
     assert errors["poly2"] < 1e-12  # the exact static shape is a cubic
     assert 0 < errors[8] < errors[4] < 0.02

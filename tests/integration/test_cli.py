@@ -35,6 +35,24 @@ def test_run_writes_csv_png_json(tmp_path):
     assert errors["t1"] < 1e-6 and errors["t2"] < 1e-6 and errors["x(t2)"] < 1e-6
     assert summary["settings"]["step"] == 0.5 and summary["settings"]["wall_s"] > 0
     assert (tmp_path / "stick_slip.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # closed forms against located events: each stated to the solver's tolerance
+    assert summary["passed"] is True
+    assert all(f["passed"] and 0 < f["accuracy"] <= 1e-6 for f in summary["figures"])
+    assert proc.stdout.splitlines()[-1] == "all 3 figures pass"
+
+
+def test_a_figure_outside_its_accuracy_fails_the_run(tmp_path):
+    # stopped at 10 s, before the re-stick at t2 = 12.07 s: t2 and x(t2) are not measured
+    proc = mechfmu("run", "stick_slip", "--stop-time", "10", "--out", str(tmp_path))
+    assert proc.returncode == 1, proc.stderr  # not 2: the input was fine, the figures not
+    lines = proc.stdout.splitlines()
+    assert lines[-1] == "FAILED: 2 of 3 figures outside their accuracy: t2, x(t2)"
+    rows = {line.split()[0]: line.split() for line in lines[1:4]}
+    assert rows["t1"][5] == "pass" and rows["t2"][5] == "FAIL" and rows["x(t2)"][5] == "FAIL"
+    assert rows["t2"][1] == "nan"
+    summary = json.loads((tmp_path / "stick_slip.json").read_text())
+    assert summary["passed"] is False
+    assert [f["passed"] for f in summary["figures"]] == [True, False, False]
 
 
 def test_build_writes_an_fmu(tmp_path):

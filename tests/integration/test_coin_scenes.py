@@ -119,5 +119,6 @@ def test_scene_figures_meet_their_references(name, tmp_path):
               "v_crit": 1e-3 * V_CRITICAL, "lean_max": 0.01, "growth": 1e-4}
     for f in figures.values():
         assert f.error <= limits[f.name], f
+        assert f.passed, f
     if name.startswith("coin"):
         plot_coin(res, name, tmp_path / f"{name}.png")

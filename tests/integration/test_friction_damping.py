@@ -24,6 +24,7 @@ def test_coulomb_turning_points_and_final_stick():
     late = res["time"] > 5 * math.pi + 1e-6
     assert abs(res["block.x"][late] + 0.55).max() < 1e-6
     assert (res["block.v"][late] == 0.0).all()
+    assert all(f.passed for f in res.figures), res.figures
 
 
 @pytest.mark.parametrize("step", [1.0, 5.0])

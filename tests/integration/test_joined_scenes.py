@@ -32,6 +32,7 @@ def test_two_block_belt_figures():
     # the sliding equilibrium K s = mu_k m g, reached as the transient decays like
     # exp(-d t / 2m) = exp(-7.5) of its 0.25 m start by t = 300 s
     assert figures["s1_end"].error < 2e-4 and figures["s2_end"].error < 2e-4
+    assert all(f.passed for f in figures.values()), figures
 
 
 def test_axle_motor_figures():
@@ -41,6 +42,7 @@ def test_axle_motor_figures():
     # motor work = stored energy + losses; the losses by the trapezoid rule on 0.01 s samples
     W = figures["W_motor"]
     assert W.measured > 1.0 and W.error < 1e-5 * W.measured
+    assert all(f.passed for f in figures.values()), figures
 
 
 @pytest.mark.parametrize("name", list(SHORT))
