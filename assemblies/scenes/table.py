@@ -8,7 +8,9 @@ input (with k = 0 it exerts no force). Absolute velocity = block.v + table.flang
 """
 from __future__ import annotations
 
+import functools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -66,11 +68,22 @@ def _moving_table_figures(result: Result, asm: Assembly) -> list[Figure]:
     # the seed's rate is for V << U omega; fit ln V where V < U omega / 4
     small = (vc > 0) & (vc < p["U"] * p["omega"] / 4)
     rate = -np.polyfit(tc[small], np.log(vc[small]), 1)[0] if small.sum() >= 3 else math.nan
-    # the seed's averaged law before linearising: dV/dt = -(2 mu g / pi) arcsin(V / (U omega))
+    # The seed averages the friction force over a cycle of the table, an expansion in
+    # eps = mu g / (U omega^2) (0.01): the averaged law is right to O(eps) of the rate.
+    # Linearising it, arcsin(x) ~ x, errs by up to x^2 / 6 of the rate at the top of the
+    # fitted range, x = V / (U omega) < 1/4.
+    eps = mu * g / (p["U"] * p["omega"] ** 2)
+    # Over the first cycle the averaging drops a ripple P(omega t) mu g / omega whose mean
+    # over a cycle is zero and which vanishes at t = 0 (the table starts at phase 0, where
+    # P is odd); what is left is its change as V drifts by 2 pi mu g / omega over that
+    # cycle, O(eps^2): about (mu g / omega) (2 pi mu g / omega) / (U omega) = 2 pi eps^2 U omega.
     return [Figure("decay_rate", "decay rate of the cycle-averaged velocity, V < U omega/4 [1/s]",
-                   rate, 2 * mu * g / (math.pi * p["omega"] * p["U"])),
+                   rate, 2 * mu * g / (math.pi * p["omega"] * p["U"]), eps + 0.25**2 / 6,
+                   relative=True),
+            # the seed's averaged law before linearising: V' = -(2 mu g / pi) arcsin(V / (U omega))
             Figure("V_first", "mean absolute velocity over the first cycle [m/s]", vc[0],
-                   _averaged_law_first_cycle(1.5, mu * g, p["U"] * p["omega"], period))]
+                   _averaged_law_first_cycle(1.5, mu * g, p["U"] * p["omega"], period),
+                   2 * math.pi * eps**2 * p["U"] * p["omega"])]
 
 
 def _averaged_law_first_cycle(v0, mu_g, u_omega, period):
@@ -100,17 +113,206 @@ def conveyor_median_velocity(U: float, omega: float, c) -> float:
     return float(np.median(v))
 
 
+# --- the exact Coulomb motion of a block on a harmonically shaken table ----------------
+# Independent of the FMUs and the masters: the block's absolute velocity is piecewise
+# linear while it slides (acceleration -mu_k g mode) and equals the table's while it
+# sticks, so the motion is a sequence of phases whose ends are roots of smooth functions.
+# Each root is found as the EARLIEST one with a rigorous exclusion test (a bound on the
+# function's second derivative), so no short phase can be skipped: that is the property
+# the event drivers under test must have too.
+class HarmonicTable:
+    """The table's path s(t) = U sum_k c_k sin(k omega t) and its derivatives."""
+
+    def __init__(self, U: float, omega: float, c):
+        self.U, self.omega = float(U), float(omega)
+        self.terms = [(k * self.omega, float(ck)) for k, ck in enumerate(c, start=1) if ck]
+
+    def derivative(self, n: int, t: float) -> float:
+        """The n-th time derivative of the position (n = 0: the position)."""
+        shift = n * math.pi / 2
+        return self.U * sum(ck * kw**n * math.sin(kw * t + shift) for kw, ck in self.terms)
+
+    def velocity_change(self, t0: float, t: float) -> float:
+        """v(t) - v(t0) without cancellation (a product of sines), so that the relative
+        velocity of a slide that starts at the table's velocity has the right sign even
+        a few ulps after the start."""
+        return -2 * self.U * sum(ck * kw * math.sin(kw * (t + t0) / 2) * math.sin(kw * (t - t0) / 2)
+                                 for kw, ck in self.terms)
+
+    def bound(self, n: int) -> float:
+        """An upper bound of |n-th derivative| over all t."""
+        return self.U * sum(abs(ck) * kw**n for kw, ck in self.terms)
+
+
+def _earliest_zero(f, df, curvature, t0, t1, side):
+    """The earliest t in (t0, t1] where side * f(t) <= 0, or None.
+
+    `curvature` bounds |f''|, so side*f(a) + side*f'(a) tau - curvature tau^2 / 2 is a
+    lower bound of side*f(a + tau): an interval where it stays positive has no zero.
+    Where that cannot be shown the interval is halved; a sign change on an interval
+    where f' provably keeps its sign is one simple zero, refined by Brent's method.
+    """
+    from scipy.optimize import brentq
+
+    a, h = t0, (t1 - t0) / 64
+    floor = 1e-14 * max(1.0, abs(t1))
+    while a < t1:
+        b = min(a + h, t1)
+        fa, dfa = side * f(a), side * df(a)
+        width = b - a
+        if (fa > 0 or (fa == 0 and dfa > 0)) and fa + width * (dfa - curvature * width / 2) > 0:
+            a, h = b, 2 * h  # provably no zero in (a, b]
+            continue
+        fb = side * f(b)
+        if fb <= 0 and (abs(dfa) > curvature * width or width <= floor):
+            if fa <= 0:  # f already at or past zero at a (only at a tangency)
+                return a
+            return brentq(lambda t: side * f(t), a, b, xtol=1e-15, rtol=8.9e-16)
+        if width <= floor:  # a touch of zero without crossing it
+            a, h = b, 2 * floor
+            continue
+        h = width / 2
+    return None
+
+
+@dataclass
+class TablePhase:
+    """One phase of the block's motion: from `t` on, in friction `mode`, with absolute
+    velocity `v` (mode as the component's: -1 sliding backward relative to the table,
+    0 stuck, +1 sliding forward)."""
+    t: float
+    mode: int
+    v: float
+
+
+class CoulombOnTable:
+    """A block with exact Coulomb friction (mu_s, mu_k, gravity g) on a HarmonicTable."""
+
+    def __init__(self, table: HarmonicTable, mu_s: float, mu_k: float, g: float):
+        self.table, self.mu_s, self.mu_k, self.g = table, mu_s, mu_k, g
+
+    def _departure(self, t):
+        """The mode the block takes when its velocity equals the table's at time t."""
+        a = self.table.derivative(2, t)
+        return 0 if abs(a) <= self.mu_s * self.g else -int(math.copysign(1, a))
+
+    def start(self, t: float, v: float) -> TablePhase:
+        v_rel = v - self.table.derivative(1, t)
+        return TablePhase(t, self._departure(t) if v_rel == 0 else int(math.copysign(1, v_rel)), v)
+
+    def end_of(self, phase: TablePhase, t_limit: float) -> float | None:
+        """When `phase` ends (the earliest time in (phase.t, t_limit]), or None."""
+        tab, t0 = self.table, phase.t
+        if phase.mode == 0:  # stuck until the table's acceleration exceeds mu_s g
+            limit = self.mu_s * self.g
+            ends = [_earliest_zero(lambda t, s=s: limit - s * tab.derivative(2, t),
+                                   lambda t, s=s: -s * tab.derivative(3, t), tab.bound(4),
+                                   t0, t_limit, 1) for s in (1, -1)]
+            ends = [e for e in ends if e is not None]
+            return min(ends) if ends else None
+        slope = -self.mu_k * self.g * phase.mode
+        v_rel0 = phase.v - tab.derivative(1, t0)  # exactly 0 where a phase ended
+        return _earliest_zero(lambda t: v_rel0 + slope * (t - t0) - tab.velocity_change(t0, t),
+                              lambda t: slope - tab.derivative(2, t), tab.bound(3),
+                              t0, t_limit, phase.mode)
+
+    def velocity(self, phase: TablePhase, t: float) -> float:
+        if phase.mode == 0:
+            return self.table.derivative(1, t)
+        return phase.v - self.mu_k * self.g * phase.mode * (t - phase.t)
+
+    def displacement(self, phase: TablePhase, t: float) -> float:
+        """How far the block moves from phase.t to t within the phase."""
+        if phase.mode == 0:
+            return self.table.derivative(0, t) - self.table.derivative(0, phase.t)
+        dt = t - phase.t
+        return phase.v * dt - 0.5 * self.mu_k * self.g * phase.mode * dt * dt
+
+    def advance(self, phase: TablePhase, t_stop: float):
+        """(phase at t_stop, displacement over [phase.t, t_stop], phases begun after phase.t)."""
+        moved, begun = 0.0, []
+        while True:
+            t_end = self.end_of(phase, t_stop)
+            if t_end is None:
+                moved += self.displacement(phase, t_stop)
+                return TablePhase(t_stop, phase.mode, self.velocity(phase, t_stop)), moved, begun
+            moved += self.displacement(phase, t_end)
+            # every phase ends with the block at the table's velocity; a stick ends where
+            # |a_table| reaches mu_s g, so it always gives way to a slide (rounding at the
+            # root must not make it stick again)
+            mode = self._departure(t_end)
+            if phase.mode == 0:
+                mode = -int(math.copysign(1, self.table.derivative(2, t_end)))
+            phase = TablePhase(t_end, mode, self.table.derivative(1, t_end))
+            begun.append(phase)
+
+
+@dataclass
+class PeriodicMotion:
+    """The block's periodic motion on the table: its mean speed, the number of table
+    periods it took from the start to become periodic, and its state (absolute
+    velocity and mode) at the start of every period from then on."""
+    speed: float
+    periods: int
+    v_start: float
+    mode_start: int
+
+
+def table_periodic_speed(U: float, omega: float, c, mu_s: float, mu_k: float, g: float,
+                         v0: float = 0.0, tol: float = 1e-13,
+                         max_periods: int = 20_000) -> PeriodicMotion:
+    """The exact mean speed of the block's periodic motion on a HarmonicTable.
+
+    Starts at t = 0 with absolute velocity v0 and maps the state (velocity, mode) over
+    one table period T at a time until two successive states agree to `tol` (the
+    convergence check); the speed is the displacement over that last period divided
+    by T, exact to the root finder's tolerance (~1e-15 in time). Raises RuntimeError
+    if the motion does not settle to one period within `max_periods`.
+    """
+    block = CoulombOnTable(HarmonicTable(U, omega, c), mu_s, mu_k, g)
+    period = 2 * math.pi / omega
+    phase = block.start(0.0, v0)
+    for n in range(1, max_periods + 1):
+        new, moved, _ = block.advance(phase, n * period)
+        if new.mode == phase.mode and abs(new.v - phase.v) <= tol:
+            return PeriodicMotion(moved / period, n, new.v, new.mode)
+        phase = new
+    raise RuntimeError(f"the motion is not periodic with the table's period after {max_periods} "
+                       f"periods (velocity at the period's start still changes by "
+                       f"{abs(new.v - phase.v):.3g})")
+
+
+# The exact motion is T-periodic after about 50 periods (the state at the start of a period
+# then repeats to 1e-13; the contraction is about 7x per period), so a run of 120 periods
+# measures the speed over its last 40.
+CONVEYOR_MEASURED_PERIODS = 40
+# What every mode is required to meet (issue 10: the speed equal across modes to 1e-4).
+# Measured over 120 periods with every friction event found: me and monolithic at
+# tolerance 1e-8 are 3e-10 off; cosim, first order in its step, 4.6e-4 at T/64 and
+# 4.8e-6 at T/256 (8.6e-3 at the scene's T/16: that run fails this figure).
+CONVEYOR_ACCURACY = 1e-4
+
+
+@functools.lru_cache(maxsize=16)
+def conveyor_exact_speed(U: float, omega: float, c: tuple, mu_s: float, mu_k: float,
+                         g: float) -> float:
+    """The exact mean speed of the conveyor's periodic motion (seed 9.6 ex. 2), starting
+    from rest as the scene does; see :func:`table_periodic_speed` (cached: ~1 s)."""
+    return table_periodic_speed(U, omega, c, mu_s, mu_k, g, v0=0.0).speed
+
+
 def _conveyor_figures(result: Result, asm: Assembly) -> list[Figure]:
     p = asm.component("table").values
+    block = asm.component("block").values
     period = 2 * math.pi / p["omega"]
-    # the steady motion is not T-periodic: cycle means wander between ~1.00 and ~1.07
-    # over about seven cycles, so average over everything after the run-up (40 cycles)
     t, s = result["time"], result["block.s"]
-    t0 = 40 * period
-    mean = (s[-1] - np.interp(t0, t, s)) / (t[-1] - t0)
-    return [Figure("V_steady", "mean absolute velocity after 40 cycles of run-up [m/s]",
-                   float(mean),
-                   conveyor_median_velocity(p["U"], p["omega"], (p["c1"], p["c2"], p["c3"])))]
+    t0 = t[-1] - CONVEYOR_MEASURED_PERIODS * period
+    mean = (s[-1] - np.interp(t0, t, s)) / (t[-1] - t0) if t0 >= 0 else math.nan
+    exact = conveyor_exact_speed(p["U"], p["omega"], (p["c1"], p["c2"], p["c3"]),
+                                 block["mu_s"], block["mu_k"], block["g"])
+    return [Figure("V_steady", f"mean absolute velocity over the last {CONVEYOR_MEASURED_PERIODS} "
+                               "periods vs the exact periodic Coulomb motion [m/s]",
+                   float(mean), exact, CONVEYOR_ACCURACY)]
 
 
 _RECORD = ["block.x", "block.v", "block.s", "block.mode", "block.f_friction",

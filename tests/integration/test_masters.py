@@ -11,7 +11,7 @@ from assemblies.masters.cosim import cosimulate
 from assemblies.masters.me import simulate_me
 from assemblies.masters.monolithic import simulate_monolithic
 from assemblies.scenes import scene
-from assemblies.scenes.table import PERIOD, conveyor_median_velocity
+from assemblies.scenes.table import PERIOD
 from components import AssumedModesBeam, ConstantSpeed, SpringBlock
 
 # (scene, stop time): the table scenes over six periods of the table (12 friction events)
@@ -90,6 +90,7 @@ def test_run_scene_modes():
     assert me.settings["scheme"] == "me" and mono.settings["scheme"] == "monolithic"
     assert max(f.error for f in me.figures) < 1e-8
     assert max(f.error for f in mono.figures) < 1e-8
+    assert all(f.passed for f in me.figures + mono.figures)
     with pytest.raises(AssemblyError, match="mode must be one of cosim, me, monolithic"):
         run_scene("friction_damping", mode="jacobian")
 
@@ -100,16 +101,7 @@ def test_moving_table_decay_rate_is_the_seeds():
     assert abs(rate.reference - 0.1273) < 1e-4
     # the seed's rate holds for V << U omega and small mu g/(U omega^2) = 0.01
     assert abs(rate.measured - rate.reference) < 0.01 * rate.reference
-
-
-def test_conveyor_steady_velocity_is_near_the_seeds_median():
-    assert abs(conveyor_median_velocity(0.1, 20.0, (1.0, -0.33, 0.08)) - 1.069) < 1e-3
-    res = run_scene("conveyor", mode="monolithic")
-    v = {f.name: f for f in res.figures}["V_steady"]
-    # the median rule takes the block's speed constant within a cycle; friction changes it
-    # by mu g T / 2 ~ 0.06 per half cycle, which lowers the steady speed by a few percent
-    # (measured 1.037-1.038 here, 3 % low; see the report)
-    assert v.measured < v.reference and abs(v.measured - v.reference) < 0.05 * v.reference
+    assert all(f.passed for f in res.figures), res.figures
 
 
 def test_an_algebraic_loop_is_named():
