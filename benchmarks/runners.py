@@ -186,6 +186,16 @@ class Masters:
             raise RuntimeError(f"co-simulation gave {len(values)} rows for {len(times)} times")
         return values, None, None
 
+    def engine(self, times, tol, mode="me"):
+        """The compiled engine's run of the assembly (`me`: its Model Exchange FMUs in one
+        integrator; `monolithic`: the one composite FMU), called as a user calls it: no
+        build memo, the FMUs already built by an earlier (untimed) call in this process."""
+        from assemblies.engine import me as engine
+        simulate = engine.simulate_me if mode == "me" else engine.simulate_monolithic
+        res = simulate(self.assembly, times[-1], times[1] - times[0], tol, record=[self.column])
+        return (np.asarray(res[self.column]), res.settings.get("rhs_calls"),
+                res.settings.get("steps"))
+
     def monolithic(self, times, tol, method="DOP853"):
         model = self.joined
         system = _JoinedSystem(model, _columns(model, [self.column]))
@@ -194,6 +204,15 @@ class Masters:
         rows, stats, _ = integrate(system, y0, times[-1], times, method=method, rtol=tol,
                                    atol=tol * 1e-2)
         return np.array([r[1] for r in rows]), stats.rhs_calls, stats.steps
+
+
+def engine_missing() -> str | None:
+    """Why the compiled engine cannot be benchmarked here, or None when it can."""
+    try:
+        from assemblies.engine.me import simulate_me, simulate_monolithic  # noqa: F401
+    except ImportError as exc:
+        return f"engine skipped: assemblies.engine.me is not importable ({exc})"
+    return None
 
 
 def max_error(values, reference) -> float:

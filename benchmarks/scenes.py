@@ -19,7 +19,8 @@ from assemblies.scenes import scene
 from components.beam import AssumedModesBeam
 
 from . import baselines, references
-from .runners import Masters, SingleFmu
+from .c_limit import CLimit
+from .runners import Masters, SingleFmu, engine_missing
 
 FULL_TOLERANCES = tuple(10.0**-k for k in range(3, 11))   # 1e-3 ... 1e-10
 QUICK_TOLERANCES = (1e-4, 1e-6, 1e-8)
@@ -42,9 +43,12 @@ class Case:
 
 
 def _our_methods(fmu: SingleFmu | None, masters: Masters | None, times, smooth: bool):
-    """(a) CS FMU with both embedded solvers, (b) ME FMU under CVode, (c) masters, CasADi."""
+    """(a) CS FMU with both embedded solvers, (b) ME FMU under CVode, (c) masters, CasADi,
+    (d) c_limit: the FMU's own generated C under the runtime's solver, with nothing around."""
     methods = {}
     if fmu is not None:
+        limit = CLimit(fmu.component, fmu.observed)
+        methods["c_limit"] = lambda tol, count: limit.column(times, tol)
         for solver in ("DOPRI5", "RODAS3"):
             methods[f"fmu_cs_{solver.lower()}"] = (
                 lambda tol, count, s=solver: fmu.cosim(times, tol, s, count))
@@ -52,6 +56,10 @@ def _our_methods(fmu: SingleFmu | None, masters: Masters | None, times, smooth: 
         if smooth:
             methods["casadi_cvodes"] = lambda tol, count: fmu.casadi(times, tol)
     if masters is not None:
+        if engine_missing() is None:
+            methods["engine_me"] = lambda tol, count: masters.engine(times, tol, "me")
+            methods["engine_monolithic"] = (
+                lambda tol, count: masters.engine(times, tol, "monolithic"))
         methods["master_me"] = lambda tol, count: masters.me(times, tol)
         methods["master_monolithic"] = lambda tol, count: masters.monolithic(times, tol)
     return methods

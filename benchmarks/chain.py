@@ -1,0 +1,306 @@
+"""A chain of n friction blocks: how the cost of each mode grows with n (issue 10).
+
+    wall ─SD─ block1 ─SD─ block2 ─SD─ … ─SD─ blockn      SD: SpringDamper (link1 … linkn);
+              belt1       belt2              beltn        the right end is free
+
+(one ConstantSpeed per belt support: a connection joins exactly two ports)
+
+Every block rides on the belt (exact Coulomb friction, mu_s > mu_k). With the default
+``stretch=0`` each starts stuck with every spring at rest: the belt carries the chain
+away from the wall, only the wall's spring-damper stretches, block1 slips first at a
+closed-form time, the others follow, and the chain settles to the sliding equilibrium
+K s = mu_k m g (blocks at rest, belt sliding under them), with K the tridiagonal
+stiffness of wall link and couplings; damping in every link (D = (d/c) K) makes the
+transient decay like a modally damped chain. Those two closed forms are the physics
+check (tests/integration/test_chain.py). The bench case starts each block displaced by
+``stretch`` = 0.5 m alternately back and forth on the belt, so every link pulls harder
+than static friction holds and ALL n blocks slip, ring and re-stick within the run (at
+rest springs, only block1 and block2 would move in 10 s: an idle chain is no test of how
+a master scales). 3n + 1 FMU instances, 2n continuous states, n friction modes.
+
+``python -m benchmarks.chain [--json FILE] [--sizes 1 2 4 …] [--stop T]`` runs the chain
+for n = 1, 2, 4, 8, 16, 32 in every mode it can reach, times the calls after the first
+(FMUs and composite FMU already built; the build lookup memoised as in the suite; the
+best of up to 5 calls within about a second, since the machine is shared), prints wall
+time per (mode, n) and the fitted exponent p of wall ~ n^p per mode: least squares in
+log-log over all n (flattered by fixed per-run costs at small n) and over n >= 4 (the
+asymptote). The issue's target is p <= 1.1 under cosim.
+
+Modes: the fmpy-driven masters (``assemblies.masters``: cosim, me, monolithic with
+CasADi called from Python) and the composite FMU (``simulate_monolithic(engine="fmu")``,
+one FMU for the whole joined chain, driven as a CS FMU: the reference cost the joined
+modes are held against); the compiled engine's cosim / me / monolithic when
+``assemblies.engine`` provides them (imported lazily; a missing one is reported and
+skipped); for the engine's cosim also its one C call alone (``engine cosim: C call only``:
+FMUs loaded, instantiated and run, without the Python that prepares the call). A mode
+whose run exceeds ``--budget`` seconds is not run at larger n.
+Each row also gives the largest |s_i(T) - s_i^ref(T)| over the blocks against the
+composite FMU at tolerance 1e-10: what the mode computes, not only how fast.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from typing import Callable
+
+import numpy as np
+
+from assemblies.assembly import Assembly
+from components.sources import ConstantSpeed
+from components.translational import MassWithFriction, SpringDamper
+
+SIZES = (1, 2, 4, 8, 16, 32)
+STOP_TIME, STEP, TOLERANCE = 10.0, 0.1, 1e-6
+STRETCH = 0.5  # [m] alternating start offsets of the bench case: every block slips at t = 0
+REFERENCE_TOLERANCE = 1e-10
+
+
+def friction_chain(n: int, *, m: float = 1.0, g: float = 1.0, mu_k: float = 0.3,
+                   mu_s: float = 0.4, c: float = 1.0, d: float = 1.0,
+                   belt_speed: float = 0.1, stretch: float = 0.0) -> Assembly:
+    """`n` MassWithFriction blocks on a belt, tied to a wall and to each other (module doc);
+    block i starts at x = stretch (-1)^i relative to the belt."""
+    if not (isinstance(n, int) and n >= 1):
+        raise ValueError(f"friction_chain: n must be an integer >= 1, not {n!r}")
+    # the name tells a composite FMU's memoised build apart from another start state's
+    asm = Assembly(f"friction_chain_{n}" if stretch == 0 else f"friction_chain_{n}_stretched")
+    asm.add("wall", ConstantSpeed(v=0.0))
+    left = "wall.flange"
+    for i in range(1, n + 1):
+        asm.add(f"link{i}", SpringDamper(c=c, d=d))
+        asm.add(f"block{i}", MassWithFriction(m=m, g=g, mu_k=mu_k, mu_s=mu_s,
+                                              x=stretch * (-1) ** i))
+        asm.add(f"belt{i}", ConstantSpeed(v=belt_speed))
+        asm.connect(left, f"link{i}.flange_a")
+        asm.connect(f"link{i}.flange_b", f"block{i}.flange_a")
+        asm.connect(f"belt{i}.flange", f"block{i}.support")
+        left = f"block{i}.flange_b"
+    return asm
+
+
+def chain_size(asm: Assembly) -> int:
+    return sum(1 for name in asm.components if name.startswith("block"))
+
+
+def chain_first_slip(asm: Assembly) -> float:
+    """Time block1 first slips, for a chain started at rest (stretch 0): while all blocks
+    ride the belt at v, only the wall link stretches (s1 = v t) and pulls block1 back
+    with c v t + d v; it slips at mu_s m g."""
+    if any(asm.component(n).starts["x"] != 0.0 for n in asm.components if n.startswith("block")):
+        raise ValueError("chain_first_slip: the closed form needs every block to start at x = 0")
+    b, link = asm.component("block1").values, asm.component("link1").values
+    v = asm.component("belt1").values["v"]
+    return (b["mu_s"] * b["m"] * b["g"] - link["d"] * v) / (link["c"] * v)
+
+
+def chain_sliding_equilibrium(asm: Assembly) -> np.ndarray:
+    """Positions s_i where every block stands still while the belt slides under it:
+    K s = mu_k m g, K tridiagonal from the links (link i joins block i-1, or the wall, to
+    block i; the right end is free)."""
+    n = chain_size(asm)
+    k = [asm.component(f"link{i}").values["c"] for i in range(1, n + 1)]
+    K = np.zeros((n, n))
+    for i in range(n):
+        K[i, i] += k[i]
+        if i + 1 < n:
+            K[i, i] += k[i + 1]
+            K[i, i + 1] = K[i + 1, i] = -k[i + 1]
+    load = [asm.component(f"block{i}").values["mu_k"] * asm.component(f"block{i}").values["m"]
+            * asm.component(f"block{i}").values["g"] for i in range(1, n + 1)]
+    return np.linalg.solve(K, load)
+
+
+def positions(n: int) -> list[str]:
+    return [f"block{i}.s" for i in range(1, n + 1)]
+
+
+# --- modes ---------------------------------------------------------------------------
+Runner = Callable[[Assembly, float, float, float, list], object]
+
+
+def modes() -> tuple[dict[str, Runner], list[str]]:
+    """{mode: runner(assembly, stop, step, tolerance, record) -> Result}, and notes on the
+    modes that could not be imported."""
+    from assemblies.masters.cosim import cosimulate
+    from assemblies.masters.me import simulate_me
+    from assemblies.masters.monolithic import simulate_monolithic
+
+    found: dict[str, Runner] = {
+        "fmpy cosim": lambda a, T, h, tol, rec: cosimulate(a, T, h, tol, record=rec),
+        "fmpy me": lambda a, T, h, tol, rec: simulate_me(a, T, h, tol, record=rec),
+        "monolithic (CasADi in Python)":
+            lambda a, T, h, tol, rec: simulate_monolithic(a, T, h, tol, record=rec),
+        "composite FMU (fmpy)":
+            lambda a, T, h, tol, rec: simulate_monolithic(a, T, h, tol, record=rec, engine="fmu"),
+    }
+    notes = []
+    engine = _engine_callables()
+    for mode, (fn, why) in engine.items():
+        if fn is None:
+            notes.append(f"engine {mode}: not measured ({why})")
+        else:
+            found[f"engine {mode}"] = (lambda f: lambda a, T, h, tol, rec:
+                                       f(a, T, h, tol, record=rec))(fn)
+    return found, notes
+
+
+def _engine_callables() -> dict[str, tuple[Callable | None, str]]:
+    """The compiled engine's entry points, if this checkout has them (written in parallel
+    with this module: imported lazily, from the package or its mode module)."""
+    out = {}
+    for mode, name, modules in (("cosim", "cosimulate", ("assemblies.engine.cosim",)),
+                                ("me", "simulate_me", ("assemblies.engine", "assemblies.engine.me")),
+                                ("monolithic", "simulate_monolithic",
+                                 ("assemblies.engine", "assemblies.engine.me"))):
+        out[mode] = (None, "")
+        for module in modules:
+            try:
+                out[mode] = (getattr(__import__(module, fromlist=[name]), name), "")
+                break
+            except Exception as exc:  # ImportError, or a build of the engine that failed
+                out[mode] = (None, f"{module}.{name}: {type(exc).__name__}: {exc}".splitlines()[0])
+    return out
+
+
+# --- the sweep -------------------------------------------------------------------------
+def bench_chain(n: int) -> Assembly:
+    return friction_chain(n, stretch=STRETCH)
+
+
+def best_of(call, budget_s: float = 1.0, most: int = 5):
+    """(least wall seconds over up to `most` calls, stopping once `budget_s` is spent, the
+    last result): the minimum is the run least disturbed by the machine's other work."""
+    walls, result = [], None
+    while len(walls) < most and (not walls or sum(walls) < budget_s):
+        started = time.perf_counter()
+        result = call()
+        walls.append(time.perf_counter() - started)
+    return min(walls), result
+
+
+def timed(run: Runner, n: int, stop: float, step: float, tolerance: float):
+    """(wall seconds of the calls after a one-step warm-up, best of; the Result)."""
+    rec = positions(n)
+    run(bench_chain(n), step, step, tolerance, rec)  # one step: builds and loads everything
+    return best_of(lambda: run(bench_chain(n), stop, step, tolerance, rec))
+
+
+def engine_cosim_core(n: int, stop: float, step: float, tolerance: float) -> float | None:
+    """Seconds of the engine cosim's one C call alone (FMUs loaded, instantiated, run),
+    without the Python that prepares it: where the public call's time goes."""
+    import assemblies.engine.cosim as engine
+
+    from .cosim_compare import _c_call_timer
+    with _c_call_timer(engine) as seconds:
+        if seconds is None:
+            return None
+        best_of(lambda: engine.cosimulate(bench_chain(n), stop, step, tolerance,
+                                          record=positions(n)))
+        return min(seconds)
+
+
+def fit_exponent(sizes, walls, large: int = 4) -> dict[str, float]:
+    """p of wall ~ n^p: least squares in log-log over all sizes, and over n >= `large`
+    (where per-run fixed costs no longer hide the growth)."""
+    def fit(pts):
+        if len(pts) < 2:
+            return math.nan
+        return float(np.polyfit(np.log([p[0] for p in pts]), np.log([p[1] for p in pts]), 1)[0])
+    pts = [(n, w) for n, w in zip(sizes, walls) if w is not None and w > 0]
+    return {"all": fit(pts), "tail": fit([p for p in pts if p[0] >= large])}
+
+
+def sweep(sizes=SIZES, stop: float = STOP_TIME, step: float = STEP, tolerance: float = TOLERANCE,
+          budget: float = 60.0, only: list[str] | None = None, log=print) -> dict:
+    from assemblies.masters.monolithic import simulate_monolithic
+
+    from .runners import builds_memoised
+
+    runners, notes = modes()
+    if only:
+        runners = {k: v for k, v in runners.items() if any(o in k for o in only)}
+    table: dict[str, dict[int, dict]] = {mode: {} for mode in runners}
+    with builds_memoised():
+        for n in sizes:
+            ref = simulate_monolithic(bench_chain(n), stop, step, REFERENCE_TOLERANCE,
+                                      record=positions(n), engine="fmu")
+            s_ref = np.array([ref[c][-1] for c in positions(n)])
+            for mode, run in runners.items():
+                done = table[mode]
+                if done and max(r["wall_s"] or 0 for r in done.values()) > budget:
+                    done[n] = {"wall_s": None, "note": f"skipped: a smaller n took > {budget:g} s"}
+                    continue
+                try:
+                    wall, res = timed(run, n, stop, step, tolerance)
+                except Exception as exc:
+                    done[n] = {"wall_s": None, "note": f"{type(exc).__name__}: {exc}"[:200]}
+                    log(f"  n={n:3d} {mode:32s} FAILED {done[n]['note']}")
+                    continue
+                s = np.array([res[c][-1] for c in positions(n)])
+                done[n] = {"wall_s": wall, "max_ds_vs_ref": float(np.max(np.abs(s - s_ref)))}
+                if mode == "engine cosim":
+                    core = engine_cosim_core(n, stop, step, tolerance)
+                    table.setdefault("engine cosim: C call only", {})[n] = {
+                        "wall_s": core, "max_ds_vs_ref": done[n]["max_ds_vs_ref"]}
+                log(f"  n={n:3d} {mode:32s} {wall * 1e3:10.1f} ms   "
+                    f"max|s - s_ref| {done[n]['max_ds_vs_ref']:.2e}")
+    exponents = {mode: fit_exponent(list(rows), [r["wall_s"] for r in rows.values()])
+                 for mode, rows in table.items()}
+    return {"stop_time": stop, "step": step, "tolerance": tolerance, "stretch": STRETCH,
+            "reference": f"composite FMU at tolerance {REFERENCE_TOLERANCE:g}",
+            "sizes": list(sizes), "modes": {m: {str(n): r for n, r in rows.items()}
+                                            for m, rows in table.items()},
+            "exponents": exponents, "notes": notes}
+
+
+def report(data: dict) -> str:
+    sizes = data["sizes"]
+    head = f"{'mode':32s}" + "".join(f"{'n=' + str(n):>10s}" for n in sizes) + \
+        f"{'p (all)':>9s}{'p (n>=4)':>9s}"
+    lines = [f"friction chain (stretch {data['stretch']:g} m), stop {data['stop_time']:g} s, "
+             f"step {data['step']:g} s, tolerance {data['tolerance']:g}: wall time of one run "
+             "[ms], best of up to 5", head]
+    for mode, rows in data["modes"].items():
+        cells = []
+        for n in sizes:
+            w = rows.get(str(n), {}).get("wall_s")
+            cells.append(f"{w * 1e3:10.1f}" if w is not None else f"{'-':>10s}")
+        p = data["exponents"][mode]
+        lines.append(f"{mode:32s}" + "".join(cells) + f"{p['all']:9.2f}{p['tail']:9.2f}")
+    lines.append("largest |s_i(T) - s_i^ref(T)| [m] vs " + data["reference"] + ":")
+    for mode, rows in data["modes"].items():
+        cells = [rows.get(str(n), {}).get("max_ds_vs_ref") for n in sizes]
+        lines.append(f"{mode:32s}" + "".join(f"{c:10.1e}" if c is not None else f"{'-':>10s}"
+                                             for c in cells))
+    for mode, rows in data["modes"].items():
+        for n, r in rows.items():
+            if r.get("note"):
+                lines.append(f"  {mode}, n={n}: {r['note']}")
+    lines += [f"  {note}" for note in data["notes"]]
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.chain",
+                                 description="time every mode on a chain of n friction blocks")
+    ap.add_argument("--json", help="write the measurements to this file")
+    ap.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
+    ap.add_argument("--stop", type=float, default=STOP_TIME, help="stop time [s]")
+    ap.add_argument("--step", type=float, default=STEP, help="communication/output step [s]")
+    ap.add_argument("--budget", type=float, default=60.0,
+                    help="a mode slower than this [s] is not run at larger n")
+    ap.add_argument("--only", nargs="+", help="run only the modes whose name contains one of these")
+    args = ap.parse_args(argv)
+    data = sweep(args.sizes, args.stop, args.step, budget=args.budget, only=args.only)
+    print(report(data))
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(data, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
