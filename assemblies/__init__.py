@@ -1,12 +1,17 @@
-"""Assemblies of FMU instances, co-simulated through fmpy, and the named scenes."""
+"""Assemblies of FMU instances and the named scenes.
+
+``cosimulate``, ``simulate_me`` and ``simulate_monolithic`` run in the compiled engine
+(:mod:`assemblies.engine`); :mod:`assemblies.masters` has the fmpy-driven Python
+masters of the same names, the reference the engine is tested against.
+"""
 from .assembly import Assembly, AssemblyError
-from .masters.cosim import SimulationError, cosimulate
-from .masters.me import simulate_me
-from .masters.monolithic import composite, simulate_monolithic
+from .engine import EngineError, cosimulate, simulate_me, simulate_monolithic
+from .masters.cosim import SimulationError
+from .masters.monolithic import composite
 from .result import Result, Table
 from .run import run_scene, run_scene_full
 from .scenes import SCENES, scene
 
-__all__ = ["Assembly", "AssemblyError", "Result", "SCENES", "SimulationError", "Table",
-           "composite", "cosimulate", "run_scene", "run_scene_full", "scene", "simulate_me",
-           "simulate_monolithic"]
+__all__ = ["Assembly", "AssemblyError", "EngineError", "Result", "SCENES", "SimulationError",
+           "Table", "composite", "cosimulate", "run_scene", "run_scene_full", "scene",
+           "simulate_me", "simulate_monolithic"]

@@ -1,4 +1,5 @@
-"""The `mechfmu` command: list, build and run. Bad input is one line on stderr, exit 2."""
+"""The `mechfmu` command: list, build and run. Bad input is one line on stderr, exit 2;
+a scene run whose figures miss their accuracy exits 1."""
 from __future__ import annotations
 
 import argparse
@@ -10,6 +11,10 @@ from components import COMPONENTS, ComponentError
 
 class UsageError(ValueError):
     pass
+
+
+FIGURES_FAILED = 1  # the run went through but a figure missed its accuracy (usage errors: 2)
+INTERRUPTED = 130  # Ctrl-C: the shell's code for SIGINT; what was computed is kept
 
 
 def _parse_params(pairs: list[str]) -> dict[str, str]:
@@ -47,25 +52,27 @@ def _cmd_build(args) -> int:
 
 
 def _cmd_run(args) -> int:
+    from assemblies.progress import ProgressReport
     from assemblies.run import run_scene_full
-    stop = args.stop_time
-
-    def progress(t):
-        if sys.stderr.isatty():
-            print(f"\r  t = {t:10.4g} / {stop or 0:g} s", end="", file=sys.stderr, flush=True)
-
-    run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
-                         tolerance=args.tolerance, params=_parse_params(args.param),
-                         out=args.out, scheme=args.scheme, progress=progress, mode=args.mode,
-                         adaptive=args.adaptive if args.adaptive is not None else False,
-                         extrapolation=args.extrapolation)
-    if sys.stderr.isatty():
-        print(file=sys.stderr)
-    print(run.table())
+    from assemblies.scenes import scene
+    stop = args.stop_time if args.stop_time is not None else scene(args.scene).stop_time
+    progress = ProgressReport(stop)
+    try:
+        run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
+                             tolerance=args.tolerance, params=_parse_params(args.param),
+                             out=args.out, scheme=args.scheme, progress=progress, mode=args.mode,
+                             adaptive=False if args.fixed_step else args.adaptive,
+                             extrapolation=args.extrapolation, engine=args.engine)
+    finally:
+        progress.close()
+    print(run.table(verdict=False))
     out = Path(args.out)
     print(f"wrote {out / (args.scene + '.csv')}, {out / (args.scene + '.png')}, "
           f"{out / (args.scene + '.json')}")
-    return 0
+    print(run.verdict())  # last, so that it is what a reader or a log tail sees
+    if run.result.settings.get("interrupted"):
+        return INTERRUPTED
+    return 0 if run.passed else FIGURES_FAILED
 
 
 def _cmd_export(args) -> int:
@@ -122,7 +129,8 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--param", action="append", metavar="NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
     b.set_defaults(fn=_cmd_build)
-    r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png and .json")
+    r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png and .json; exits 1 "
+                                         "if a figure misses its accuracy")
     r.add_argument("scene")
     r.add_argument("--stop-time", type=float)
     r.add_argument("--step", type=float, help="communication step [s]")
@@ -131,16 +139,24 @@ def _parser() -> argparse.ArgumentParser:
                    help="parameter, option or start value (repeatable)")
     r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"), default="jacobi",
                    help="co-simulation sweep (mode cosim only)")
-    r.add_argument("--extrapolation", type=int, choices=(0, 1, 2), default=0,
+    r.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
                    help="order of the input extrapolation held over a step: 0 constant, "
-                        "1 linear, 2 quadratic (mode cosim only; default: 0)")
-    r.add_argument("--adaptive", type=float, nargs="?", const=1e-4, metavar="TOL",
-                   help="adaptive communication step with step-doubling error control to TOL "
-                        "(absolute, default 1e-4); --step becomes the output interval "
-                        "(mode cosim only)")
+                        "1 linear, 2 quadratic (mode cosim only; default: 1 when adaptive, "
+                        "0 with --fixed-step)")
+    steps = r.add_mutually_exclusive_group()
+    steps.add_argument("--adaptive", type=float, nargs="?", const=1e-5, metavar="TOL",
+                       help="adaptive communication step with step-doubling error control to "
+                            "TOL (absolute; the default, with TOL 1e-5); --step is the output "
+                            "interval (mode cosim only)")
+    steps.add_argument("--fixed-step", action="store_true",
+                       help="a fixed communication step of --step seconds, no error control "
+                            "(mode cosim only)")
     r.add_argument("--mode", choices=("cosim", "me", "monolithic"), default="cosim",
                    help="master: co-simulation, one solver over Model Exchange FMUs, or the "
                         "joined model (default: cosim)")
+    r.add_argument("--engine", choices=("c", "fmpy"), default="c",
+                   help="c: the compiled engine, one C call per run (default); fmpy: the "
+                        "Python reference masters driving the same FMUs through fmpy")
     r.add_argument("--out", default="out", help="output folder (default: out)")
     r.set_defaults(fn=_cmd_run)
     x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU")
@@ -169,6 +185,9 @@ def main(argv: list[str] | None = None) -> int:
     except (UsageError, ComponentError, AssemblyError, SimulationError) as exc:
         print(f"mechfmu: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # the fmpy masters, or Ctrl-C outside an engine call
+        print("\nmechfmu: interrupted", file=sys.stderr)
+        return INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

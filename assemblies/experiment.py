@@ -15,3 +15,15 @@ def check_experiment(stop_time: float, step: float, tolerance: float,
         raise AssemblyError(f"{step_name} must be a positive finite number, not {step}")
     if not (math.isfinite(tolerance) and 0 < tolerance < 1):
         raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
+
+
+def check_cosim_settings(scheme: str, extrapolation: int, adaptive: bool, tol: float) -> None:
+    """Reject co-simulation settings that no co-simulation master can run."""
+    from .masters.extrapolation import ORDERS  # here: the masters import this module
+    if scheme not in ("jacobi", "gauss-seidel"):
+        raise AssemblyError(f"scheme must be 'jacobi' or 'gauss-seidel', not '{scheme}'")
+    if extrapolation not in ORDERS:
+        raise AssemblyError(f"extrapolation must be 0 (constant), 1 (linear) or 2 (quadratic), "
+                            f"not {extrapolation!r}")
+    if adaptive and not (math.isfinite(tol) and 0 < tol < 1):
+        raise AssemblyError(f"adaptive tolerance tol must be in (0, 1), not {tol}")

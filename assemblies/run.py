@@ -2,10 +2,12 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
 from .assembly import AssemblyError
+from .engine.cosim import DEFAULT_SCHEME as DEFAULT_COSIM
 from .masters.cosim import cosimulate
 from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
@@ -20,55 +22,121 @@ class SceneRun:
     result: Result
     figures: list[Figure]
 
-    def summary(self) -> dict:
-        return {"scene": self.name, "settings": self.result.settings,
-                "figures": [{"name": f.name, "description": f.description, "measured": f.measured,
-                             "reference": f.reference, "error": f.error} for f in self.figures]}
+    @property
+    def failed(self) -> list[Figure]:
+        return [f for f in self.figures if not f.passed]
 
-    def table(self) -> str:
-        lines = [f"{'figure':<10} {'measured':>16} {'reference':>16} {'error':>10}  description"]
+    @property
+    def passed(self) -> bool:
+        return not self.failed
+
+    def verdict(self) -> str:
+        """One line: every figure within its accuracy, or which are not."""
+        if self.passed:
+            return f"all {len(self.figures)} figures pass"
+        return (f"FAILED: {len(self.failed)} of {len(self.figures)} figures outside their "
+                f"accuracy: {', '.join(f.name for f in self.failed)}")
+
+    def summary(self) -> dict:
+        return {"scene": self.name, "settings": self.result.settings, "passed": self.passed,
+                "figures": [{"name": f.name, "description": f.description, "measured": f.measured,
+                             "reference": f.reference, "error": f.error,
+                             "accuracy": f.accuracy, "relative": f.relative, "bound": f.bound,
+                             "passed": f.passed} for f in self.figures]}
+
+    def table(self, verdict: bool = True) -> str:
+        """The figures, each with its error, the error it may have (`accuracy`, absolute)
+        and pass/FAIL; the run's settings; and, with `verdict`, that as the last line."""
+        lines = [f"{'figure':<12} {'measured':>16} {'reference':>16} {'error':>10} "
+                 f"{'accuracy':>10}  {'pass':<4}  description"]
         for f in self.figures:
-            lines.append(f"{f.name:<10} {f.measured:>16.10g} {f.reference:>16.10g} {f.error:>10.2e}  "
+            bound = f"{f.bound:10.2e}" if math.isfinite(f.bound) else f"{'not stated':>10}"
+            lines.append(f"{f.name:<12} {f.measured:>16.10g} {f.reference:>16.10g} "
+                         f"{f.error:>10.2e} {bound}  {'pass' if f.passed else 'FAIL':<4}  "
                          f"{f.description}")
         s = self.result.settings
         if s.get("terminated"):
             lines.append(f"terminated by {s['terminated']['instance']} at t = "
                          f"{s['terminated']['time']:.10g}: {s['terminated']['message']}")
-        lines.append(f"stop time {s['stop_time']:g} s, step {s['step']:g} s, tolerance "
-                     f"{s['tolerance']:g}, {s['scheme']}, wall time {s['wall_s']:.2f} s")
+        # only a fixed-step co-simulation has a step of its own; elsewhere it is the output grid
+        fixed_step = s.get("scheme") in ("jacobi", "gauss-seidel") and not s.get("adaptive")
+        step = "step" if fixed_step else "output every"
+        lines.append(f"stop time {s['stop_time']:g} s, {step} {s['step']:g} s, tolerance "
+                     f"{s['tolerance']:g}, {s['scheme']}, engine {s.get('engine', '?')}, "
+                     f"wall time {s['wall_s']:.3g} s")
+        if s.get("interrupted"):
+            lines.append(f"interrupted (Ctrl-C) at t = {self.result['time'][-1]:.10g} s: the "
+                         "table and figures cover the run up to there")
         if s.get("adaptive"):
             lines.append(f"adaptive to tol {s['tol']:g} (extrapolation {s['extrapolation']}): "
                          f"{s['steps']} steps taken, {s['rejected']} rejected")
+        if verdict:
+            lines.append(self.verdict())
         return "\n".join(lines)
 
 
 MODES = ("cosim", "me", "monolithic")
+ENGINES = ("c", "fmpy")
+
+
+def _masters(engine: str):
+    """(cosimulate, simulate_me, simulate_monolithic) of the chosen engine: ``c``, the
+    compiled engine (one C call per run), or ``fmpy``, the Python reference masters
+    that drive the same FMUs through fmpy."""
+    if engine == "fmpy":
+        return cosimulate, simulate_me, simulate_monolithic
+    from .engine.cosim import cosimulate as c_cosimulate
+    from .engine.me import simulate_me as c_simulate_me, simulate_monolithic as c_monolithic
+    return c_cosimulate, c_simulate_me, c_monolithic
 
 
 def run_scene(name: str, stop_time: float | None = None, step: float | None = None,
               tolerance: float | None = None, params: dict | None = None,
               out: str | Path | None = None, scheme: str = "jacobi", progress=None,
-              mode: str = "cosim", adaptive: bool | float = False,
-              extrapolation: int = 0) -> Result:
+              mode: str = "cosim", adaptive: bool | float | None = None,
+              extrapolation: int | None = None, engine: str = "c") -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
-    `mode` picks the master: ``cosim`` (Co-Simulation FMUs, fixed communication step
-    `step`), ``me`` (Model Exchange FMUs under one solver) or ``monolithic`` (the joined
-    CasADi model, the reference); for the last two `step` is only the output interval.
+    `mode` picks the master: ``cosim`` (Co-Simulation FMUs), ``me`` (Model Exchange FMUs
+    under one solver) or ``monolithic`` (the joined model as one FMU); for the last two
+    `step` is only the output interval. `engine` runs it in the compiled engine (``c``,
+    default) or in the fmpy-driven Python masters (``fmpy``, the reference).
+
+    Co-simulation by default controls its error: adaptive communication steps to
+    ``DEFAULT_COSIM['tol']`` with linear input extrapolation and events synchronised
+    across FMUs (`step` is then the output interval), and a scene of one FMU runs as a
+    single FMU whose solver steps freely. ``adaptive=False`` asks for a fixed
+    communication step `step`, ``adaptive=TOL`` for another tolerance; `extrapolation`
+    (0, 1, 2) is the input extrapolation order.
     With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
-    The measured figures are on ``res.figures``. For ``cosim``, `extrapolation` (0, 1, 2)
-    is the input extrapolation order and `adaptive` (True, or the error tolerance as a
-    number; True means 1e-4) makes `step` the output interval of an adaptive step.
+    The measured figures are on ``res.figures``.
     """
     return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
-                          mode, adaptive, extrapolation).result
+                          mode, adaptive, extrapolation, engine).result
+
+
+def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> dict:
+    """The co-simulation settings a run asked for, the defaults filled in (see run_scene):
+    ``{"adaptive": bool, "tol": float, "extrapolation": int}``."""
+    if adaptive is None and extrapolation is None:
+        return dict(DEFAULT_COSIM)
+    if adaptive is None or adaptive is False:
+        return {"adaptive": False, "tol": DEFAULT_COSIM["tol"],
+                "extrapolation": 0 if extrapolation is None else extrapolation}
+    # a number is the tolerance (0 included: refused by the master, never read as "off")
+    tol = DEFAULT_COSIM["tol"] if adaptive is True else float(adaptive)
+    return {"adaptive": True, "tol": tol,
+            "extrapolation": DEFAULT_COSIM["extrapolation"] if extrapolation is None
+            else extrapolation}
 
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
-                   scheme="jacobi", progress=None, mode="cosim", adaptive=False,
-                   extrapolation=0) -> SceneRun:
+                   scheme="jacobi", progress=None, mode="cosim", adaptive=None,
+                   extrapolation=None, engine="c") -> SceneRun:
     if mode not in MODES:
         raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
+    if engine not in ENGINES:
+        raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
     sc = scene(name)
     asm = sc.build()
     for key, value in (params or {}).items():
@@ -77,15 +145,21 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
                   step=step if step is not None else sc.step,
                   tolerance=tolerance if tolerance is not None else sc.tolerance,
                   record=sc.record, progress=progress)
-    if mode == "cosim":
-        tol = 1e-4 if adaptive is True else float(adaptive or 1e-4)
-        result = cosimulate(asm, scheme=scheme, extrapolation=extrapolation,
-                            adaptive=adaptive is not False and adaptive is not None, tol=tol,
-                            **common)
+    run_cosim, run_me, run_monolithic = _masters(engine)
+    single_fmu = (engine == "c" and len(asm.components) == 1 and adaptive is None
+                  and extrapolation is None)
+    if mode == "cosim" and single_fmu:
+        # one FMU and nothing to couple: no communication step to choose, so its solver
+        # steps freely and outputs come from its dense output
+        result = run_me(asm, **common)
+        result.settings["scheme"] = "single FMU (free steps, dense output)"
+    elif mode == "cosim":
+        result = run_cosim(asm, scheme=scheme, **cosim_scheme(adaptive, extrapolation), **common)
     elif mode == "me":
-        result = simulate_me(asm, **common)
+        result = run_me(asm, **common)
     else:
-        result = simulate_monolithic(asm, **common)
+        result = run_monolithic(asm, **common)
+    result.settings.setdefault("engine", engine)
     run = SceneRun(name, result, sc.figures(result, asm))
     result.figures = run.figures
     if out is not None:

@@ -28,10 +28,10 @@ from components.dae import flatten
 from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
-from ..experiment import check_experiment
+from ..experiment import check_cosim_settings, check_experiment
 from ..result import Result, Table
 from .adaptive import StepController
-from .extrapolation import ORDERS, step_mean
+from .extrapolation import step_mean
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
 
@@ -283,13 +283,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     iterations (plain fixed-point iteration with ``newton=False``).
     """
     check_experiment(stop_time, step, tolerance)
-    if scheme not in ("jacobi", "gauss-seidel"):
-        raise AssemblyError(f"scheme must be 'jacobi' or 'gauss-seidel', not '{scheme}'")
-    if extrapolation not in ORDERS:
-        raise AssemblyError(f"extrapolation must be 0 (constant), 1 (linear) or 2 (quadratic), "
-                            f"not {extrapolation!r}")
-    if adaptive and not (math.isfinite(tol) and 0 < tol < 1):
-        raise AssemblyError(f"adaptive tolerance tol must be in (0, 1), not {tol}")
+    check_cosim_settings(scheme, extrapolation, adaptive, tol)
     couplings = assembly.couplings()
     instances: dict[str, _Instance] = {}
     started = wallclock.perf_counter()

@@ -34,9 +34,15 @@ def coupling_groups(couplings, depends, inputs) -> list[list[int]]:
         d = depends[inst].get(out)
         return set(inputs[inst]) if d is None else d
 
-    needs = {i: [j for j, c1 in enumerate(couplings)
-                 if c1.target[0] == c2.source[0] and c1.target[1] in deps(*c2.source)]
-             for i, c2 in enumerate(couplings)}
+    # by target instance, so that the graph costs O(couplings), not its square (a chain
+    # of 32 blocks has ~200 couplings)
+    feeding: dict[str, list[int]] = {}
+    for j, c1 in enumerate(couplings):
+        feeding.setdefault(c1.target[0], []).append(j)
+    needs = {}
+    for i, c2 in enumerate(couplings):
+        d = deps(*c2.source)
+        needs[i] = [j for j in feeding.get(c2.source[0], ()) if couplings[j].target[1] in d]
     index, low, on_stack, stack, groups = {}, {}, set(), [], []
 
     def strong(v):

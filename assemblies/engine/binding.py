@@ -1,0 +1,175 @@
+"""ctypes mirror of c/engine.h, and the plumbing every engine call shares: building
+the C description of the instances, the progress callback with Ctrl-C, the stats.
+
+Everything a C structure points to is kept alive in a `Keep` list until the call
+returns (ctypes does not own the memory behind a pointer field).
+"""
+from __future__ import annotations
+
+import contextlib
+import ctypes as C
+import signal
+import threading
+
+import numpy as np
+
+from ..masters.cosim import SimulationError
+
+_P = C.POINTER
+
+
+class EngineError(SimulationError):
+    """The compiled engine could not finish a run; the message carries the FMU's log."""
+
+
+class Variable(C.Structure):  # eng_variable
+    _fields_ = [("instance", C.c_int), ("vr", C.c_uint32), ("is_int", C.c_int)]
+
+
+class InstanceSpec(C.Structure):  # eng_instance_spec
+    _fields_ = [("unzip_dir", C.c_char_p), ("model_identifier", C.c_char_p),
+                ("instantiation_token", C.c_char_p), ("instance_name", C.c_char_p),
+                ("fmi_version", C.c_int), ("n_states", C.c_int), ("n_event_indicators", C.c_int),
+                ("can_get_set_state", C.c_int), ("provides_directional_derivative", C.c_int),
+                ("n_float_starts", C.c_int), ("float_start_vr", _P(C.c_uint32)),
+                ("float_start_values", _P(C.c_double)),
+                ("n_int_starts", C.c_int), ("int_start_vr", _P(C.c_uint32)),
+                ("int_start_values", _P(C.c_int32)),
+                ("n_event_outputs", C.c_int), ("event_output_vr", _P(C.c_uint32)),
+                ("event_output_is_int", _P(C.c_int))]
+
+
+class EventGroup(C.Structure):  # eng_event_group
+    _fields_ = [("instance", C.c_int), ("first_indicator", C.c_int), ("n_indicators", C.c_int),
+                ("n_outputs", C.c_int), ("output_vr", _P(C.c_uint32)),
+                ("output_is_int", _P(C.c_int))]
+
+
+class Coupling(C.Structure):  # eng_coupling
+    _fields_ = [("source", Variable), ("target", Variable), ("gain", C.c_double)]
+
+
+PROGRESS_FN = C.CFUNCTYPE(C.c_int, C.c_void_p, C.c_double)
+
+
+class Stats(C.Structure):  # eng_stats
+    _fields_ = [("status", C.c_int), ("n_rows", C.c_long), ("t_end", C.c_double),
+                ("steps", C.c_long), ("rejected", C.c_long), ("rhs_calls", C.c_long),
+                ("jacobians", C.c_long), ("events", C.c_long), ("terminated_by", C.c_int),
+                ("message", C.c_char * 1024)]
+
+
+class MeSpec(C.Structure):  # eng_me_spec
+    _fields_ = [("n_instances", C.c_int), ("instances", _P(InstanceSpec)),
+                ("n_couplings", C.c_int), ("couplings", _P(Coupling)),
+                ("n_columns", C.c_int), ("columns", _P(Variable)),
+                ("n_event_groups", C.c_int), ("event_groups", _P(EventGroup)),
+                ("n_times", C.c_long), ("times", _P(C.c_double)), ("out", _P(C.c_double)),
+                ("stop_time", C.c_double), ("tolerance", C.c_double), ("method", C.c_int),
+                ("event_subsamples", C.c_int), ("progress", PROGRESS_FN),
+                ("progress_ctx", C.c_void_p)]
+
+
+DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1
+
+
+class Keep(list):
+    """Python objects that C pointers in a spec refer to, alive until the call returns."""
+
+    def array(self, ctype, values):
+        arr = (ctype * max(1, len(values)))(*values)
+        self.append(arr)
+        return C.cast(arr, _P(ctype))
+
+    def numpy(self, arr: np.ndarray, ctype):
+        self.append(arr)
+        return arr.ctypes.data_as(_P(ctype))
+
+
+def instance_spec(keep: Keep, name: str, fmu, identifier: str, starts: dict,
+                  event_outputs: list[str] = ()) -> InstanceSpec:
+    """One instance: the extracted FMU, and its parameters and start values by name."""
+    floats = [(fmu.variable(name, k)[0], float(v)) for k, v in starts.items()
+              if not fmu.variable(name, k)[1]]
+    ints = [(fmu.variable(name, k)[0], int(v)) for k, v in starts.items()
+            if fmu.variable(name, k)[1]]
+    outs = [fmu.variable(name, v) for v in event_outputs]
+    s = InstanceSpec()
+    s.unzip_dir, s.model_identifier = fmu.unzip_dir.encode(), identifier.encode()
+    s.instantiation_token, s.instance_name = fmu.token.encode(), name.encode()
+    s.fmi_version, s.n_states, s.n_event_indicators = fmu.fmi_version, fmu.n_states, \
+        fmu.n_event_indicators
+    s.can_get_set_state = int(fmu.can_get_set_state)
+    s.provides_directional_derivative = int(fmu.provides_directional_derivative)
+    s.n_float_starts = len(floats)
+    s.float_start_vr = keep.array(C.c_uint32, [vr for vr, _ in floats])
+    s.float_start_values = keep.array(C.c_double, [v for _, v in floats])
+    s.n_int_starts = len(ints)
+    s.int_start_vr = keep.array(C.c_uint32, [vr for vr, _ in ints])
+    s.int_start_values = keep.array(C.c_int32, [v for _, v in ints])
+    s.n_event_outputs = len(outs)
+    s.event_output_vr = keep.array(C.c_uint32, [vr for vr, _ in outs])
+    s.event_output_is_int = keep.array(C.c_int, [int(i) for _, i in outs])
+    return s
+
+
+class Progress:
+    """The C progress callback: calls the user's `progress(t)` and asks the engine to
+    stop on Ctrl-C (a SIGINT handler sets a flag while the engine runs: the run then
+    ends cleanly at its last completed step and keeps what it computed). An exception
+    raised by `progress` also stops the run, and is raised again after it."""
+
+    def __init__(self, progress=None):
+        self.user = progress
+        self.interrupted = False
+        self.error: BaseException | None = None
+        self.callback = PROGRESS_FN(self._call)
+
+    def _call(self, _ctx, t):
+        if self.user is not None and self.error is None:
+            try:
+                self.user(float(t))
+            except BaseException as exc:  # noqa: BLE001 - re-raised after the C call
+                self.error = exc
+        return int(self.interrupted or self.error is not None)
+
+    @contextlib.contextmanager
+    def sigint(self):
+        """While the engine runs, Ctrl-C sets a flag instead of raising."""
+        if threading.current_thread() is not threading.main_thread():
+            yield
+            return
+
+        def handler(_signum, _frame):
+            self.interrupted = True
+
+        previous = signal.signal(signal.SIGINT, handler)
+        try:
+            yield
+        finally:
+            signal.signal(signal.SIGINT, previous)
+
+    def reraise(self):
+        if self.error is not None:
+            raise self.error
+
+
+def run_events(lib, run, group: int) -> np.ndarray:
+    """The event rows of one group as a (n_rows, width) array (copied out of C)."""
+    rows, n, width = _P(C.c_double)(), C.c_long(), C.c_int()
+    if lib.eng_run_events(run, group, C.byref(rows), C.byref(n), C.byref(width)) != 0:
+        return np.zeros((0, 1))
+    if n.value == 0:
+        return np.zeros((0, width.value))
+    return np.ctypeslib.as_array(rows, shape=(n.value, width.value)).copy()
+
+
+def declare(lib) -> None:
+    """Argument and result types of the entry points this module calls."""
+    lib.eng_simulate_me.argtypes = [_P(MeSpec), _P(Stats)]
+    lib.eng_simulate_me.restype = C.c_void_p
+    lib.eng_run_events.argtypes = [C.c_void_p, C.c_int, _P(_P(C.c_double)), _P(C.c_long),
+                                   _P(C.c_int)]
+    lib.eng_run_events.restype = C.c_int
+    lib.eng_run_free.argtypes = [C.c_void_p]
+    lib.eng_run_free.restype = None

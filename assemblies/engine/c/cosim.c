@@ -1,0 +1,901 @@
+/*
+ * cosim.c: the co-simulation master (see cosim.h for what it does and why).
+ *
+ * Every FMU call goes through fmu.h (instances.h for typed values). Names follow
+ * the Python reference master (assemblies/masters/cosim.py): consistent(), step(),
+ * held_value(), the step controller of adaptive.py and the loop solver of loops.py,
+ * so that the two can be read side by side.
+ */
+#include "cosim.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "instances.h"
+#include "output.h"
+
+#define HISTORY 3             /* points kept per held input: enough for order 2 */
+
+typedef struct cosim cosim;
+
+typedef struct {
+    cosim *owner;
+    int index;
+    fmu_t *fmu;
+    double step_start;        /* currentCommunicationPoint of the doStep in progress */
+    int event_at_start;       /* an event handled at the start of the step (inputs moved) */
+    double event_in_step;     /* earliest event located inside the step; INFINITY: none */
+    eng_table *events;        /* outputs at this instance's events, time first */
+} instance;
+
+/* Everything a rollback restores: the FMUs' states and the master's own memory. */
+typedef struct {
+    void **fmu_state;
+    double *hist_t, *hist_v;  /* n_couplings x HISTORY */
+    int *hist_n;
+    long *n_events;
+    int terminated, terminated_instance;
+    double terminated_time;
+    double t;
+} snapshot;
+
+struct cosim {
+    const eng_cosim_spec *cfg;
+    eng_stats *run_stats;
+    eng_cosim_stats *stats;
+    eng_run *run;
+    instance *inst;
+    fmu_t **fmus;
+    double *u;                /* the value last set on each coupling's input */
+    double *hist_t, *hist_v;  /* history of held inputs at communication points */
+    int *hist_n;
+    int *in_loop;
+    int *done;                /* Gauss–Seidel: instances stepped in this sweep */
+    int *which;               /* instances whose event is being located */
+    int hold_raw;             /* this step holds the sources' values (no extrapolation) */
+    int rejected_last;        /* the step controller's last step was rejected */
+    double *state, *coarse;   /* state vectors for the error estimate */
+    double *scratch;          /* loop solver: u, r, jacobian, step */
+    snapshot snap[3];         /* current step, previous step, probe */
+    int terminated, terminated_instance;
+    double terminated_time;
+    double *row;              /* one event row */
+};
+
+/* ---------------------------------------------------------------------------- */
+/* messages and FMU calls                                                          */
+
+static int fail(cosim *c, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->run_stats->message, sizeof c->run_stats->message, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+static int fmu_fail(cosim *c, int i, const char *what, double t)
+{
+    eng_describe_failure(c->run_stats->message, sizeof c->run_stats->message, c->fmus[i], what, t);
+    return -1;
+}
+
+static int source_value(cosim *c, int k, double t, double *value)
+{
+    const eng_variable *v = &c->cfg->couplings[k].source;
+    double y;
+    if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &y))
+        return fmu_fail(c, v->instance, "get of a coupled output", t);
+    *value = c->cfg->couplings[k].gain * y;
+    return 0;
+}
+
+static int set_input(cosim *c, int k, double value, double t)
+{
+    const eng_variable *v = &c->cfg->couplings[k].target;
+    if (eng_set_value(c->fmus[v->instance], v->vr, v->is_int, value))
+        return fmu_fail(c, v->instance, "set of a coupled input", t);
+    c->u[k] = value;
+    return 0;
+}
+
+/* FMI 3 intermediate update: an event inside a step. Records the instance's
+   outputs and what the synchronisation needs to know; never asks to return early. */
+static int on_intermediate(void *ctx, fmu_t *f, double time, int get_allowed, int step_finished,
+                           int can_return_early)
+{
+    instance *in = (instance *)ctx;
+    const eng_instance_spec *spec = &in->owner->cfg->instances[in->index];
+    double *row = in->owner->row;
+    int j;
+    (void)can_return_early;
+    if (!get_allowed || step_finished) return 0;
+    if (time <= in->step_start + 1e-12 * fmax(1.0, fabs(in->step_start))) in->event_at_start = 1;
+    else if (time < in->event_in_step) in->event_in_step = time;
+    row[0] = time;
+    for (j = 0; j < spec->n_event_outputs; j++) {
+        row[1 + j] = NAN;
+        eng_get_value(f, spec->event_output_vr[j], spec->event_output_is_int[j], &row[1 + j]);
+    }
+    eng_table_append(in->events, row); /* out of memory: the row is lost, the run goes on */
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------- */
+/* held inputs: the step mean of the extrapolating polynomial (extrapolation.py)  */
+
+static void push_history(cosim *c, int k, double t, double value)
+{
+    double *ht = c->hist_t + k * HISTORY, *hv = c->hist_v + k * HISTORY;
+    double eps = 1e-12 * fmax(1.0, fabs(t));
+    int n = c->hist_n[k], keep = 0, j;
+    for (j = 0; j < n; j++) { /* drop points at or after t (a step redone) */
+        if (ht[j] < t - eps) {
+            ht[keep] = ht[j];
+            hv[keep] = hv[j];
+            keep++;
+        }
+    }
+    if (keep == HISTORY) {
+        memmove(ht, ht + 1, (HISTORY - 1) * sizeof(double));
+        memmove(hv, hv + 1, (HISTORY - 1) * sizeof(double));
+        keep--;
+    }
+    ht[keep] = t;
+    hv[keep] = value;
+    c->hist_n[k] = keep + 1;
+}
+
+/* Mean over [t, t + h] of the polynomial through the last order + 1 points. */
+static double step_mean(const double *pt, const double *pv, int n, double t, double h, int order)
+{
+    double a[3][4], coef[3], mean = 0.0;
+    int m = n < order + 1 ? n : order + 1, i, j, k;
+    pt += n - m;
+    pv += n - m;
+    if (m == 1) return pv[0];
+    for (i = 0; i < m; i++) { /* Vandermonde in units of the step, from t */
+        double tau = (pt[i] - t) / h, p = 1.0;
+        for (j = 0; j < m; j++) {
+            a[i][j] = p;
+            p *= tau;
+        }
+        a[i][m] = pv[i];
+    }
+    for (k = 0; k < m; k++) { /* Gaussian elimination, partial pivoting */
+        int piv = k;
+        for (i = k + 1; i < m; i++) if (fabs(a[i][k]) > fabs(a[piv][k])) piv = i;
+        if (piv != k) for (j = 0; j <= m; j++) { double s = a[k][j]; a[k][j] = a[piv][j]; a[piv][j] = s; }
+        for (i = k + 1; i < m; i++) {
+            double f = a[i][k] / a[k][k];
+            for (j = k; j <= m; j++) a[i][j] -= f * a[k][j];
+        }
+    }
+    for (k = m - 1; k >= 0; k--) {
+        double s = a[k][m];
+        for (j = k + 1; j < m; j++) s -= a[k][j] * coef[j];
+        coef[k] = s / a[k][k];
+    }
+    for (k = 0; k < m; k++) mean += coef[k] / (k + 1);
+    return mean;
+}
+
+/* The constant for held input k over [t, t + h]; `now` is its source's value at
+   t_source (t, or t + h where Gauss–Seidel stepped the source already). */
+static double held_value(const cosim *c, int k, double t, double h, double t_source, double now)
+{
+    double pt[HISTORY + 1], pv[HISTORY + 1];
+    const double *ht = c->hist_t + k * HISTORY, *hv = c->hist_v + k * HISTORY;
+    double eps = 1e-12 * fmax(1.0, fabs(t_source));
+    int n = 0, j;
+    if (c->cfg->extrapolation == 0 && t_source == t) return now;
+    for (j = 0; j < c->hist_n[k]; j++) {
+        if (ht[j] < t_source - eps) {
+            pt[n] = ht[j];
+            pv[n] = hv[j];
+            n++;
+        }
+    }
+    pt[n] = t_source;
+    pv[n] = now;
+    return step_mean(pt, pv, n + 1, t, h, c->cfg->extrapolation);
+}
+
+/* ---------------------------------------------------------------------------- */
+/* algebraic loops (loops.py)                                                      */
+
+static int solve_linear(double *a, double *b, int n)
+{
+    int i, j, k;
+    for (k = 0; k < n; k++) {
+        int piv = k;
+        for (i = k + 1; i < n; i++) if (fabs(a[i * n + k]) > fabs(a[piv * n + k])) piv = i;
+        if (a[piv * n + k] == 0.0) return -1;
+        if (piv != k) {
+            double s;
+            for (j = 0; j < n; j++) { s = a[k * n + j]; a[k * n + j] = a[piv * n + j]; a[piv * n + j] = s; }
+            s = b[k]; b[k] = b[piv]; b[piv] = s;
+        }
+        for (i = k + 1; i < n; i++) {
+            double f = a[i * n + k] / a[k * n + k];
+            for (j = k; j < n; j++) a[i * n + j] -= f * a[k * n + j];
+            b[i] -= f * b[k];
+        }
+    }
+    for (k = n - 1; k >= 0; k--) {
+        double s = b[k];
+        for (j = k + 1; j < n; j++) s -= a[k * n + j] * b[j];
+        b[k] = s / a[k * n + k];
+    }
+    return 0;
+}
+
+static int loop_residual(cosim *c, const int *cs, int n, const double *u, double *r, double t)
+{
+    int i;
+    for (i = 0; i < n; i++) if (set_input(c, cs[i], u[i], t)) return -1;
+    for (i = 0; i < n; i++) {
+        double y;
+        if (source_value(c, cs[i], t, &y)) return -1;
+        r[i] = u[i] - y;
+    }
+    return 0;
+}
+
+static double max_abs(const double *v, int n)
+{
+    double m = 0.0;
+    int i;
+    for (i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
+    return m;
+}
+
+static int solve_loop(cosim *c, int group, double t)
+{
+    const eng_cosim_spec *g = c->cfg;
+    const int *cs = g->group_members + g->group_start[group];
+    int n = g->group_start[group + 1] - g->group_start[group], i, j, it;
+    double *u = c->scratch, *r = u + n, *jac = r + n, *du = jac + n * n, res = 0.0;
+
+    for (i = 0; i < n; i++) u[i] = c->u[cs[i]];
+    if (loop_residual(c, cs, n, u, r, t)) return -1;
+    for (it = 0; it <= g->max_loop_iterations; it++) {
+        res = max_abs(r, n);
+        if (res <= g->loop_tolerance * (1.0 + max_abs(u, n))) {
+            c->stats->loop_iterations += it;
+            c->stats->loop_residual = fmax(c->stats->loop_residual, res);
+            return 0;
+        }
+        if (it == g->max_loop_iterations) break;
+        if (g->newton) {
+            for (i = 0; i < n; i++) {
+                int si = cs[i];
+                for (j = 0; j < n; j++) {
+                    int tj = cs[j];
+                    jac[i * n + j] = i == j ? 1.0 : 0.0;
+                    const eng_variable *y = &g->couplings[si].source, *x = &g->couplings[tj].target;
+                    if (x->instance == y->instance) {
+                        double one = 1.0, d = 0.0;
+                        if (fmu_directional_derivative(c->fmus[y->instance], &y->vr, 1, &x->vr, 1,
+                                                       &one, &d) != FMU_OK)
+                            return fmu_fail(c, y->instance, "directional derivative", t);
+                        jac[i * n + j] -= g->couplings[si].gain * d;
+                    }
+                }
+                du[i] = -r[i];
+            }
+            if (solve_linear(jac, du, n)) {
+                c->stats->loop_failed_group = group;
+                c->stats->loop_failed_time = t;
+                c->stats->loop_singular = 1;
+                return fail(c, "singular");
+            }
+            for (i = 0; i < n; i++) u[i] += du[i];
+        } else {
+            for (i = 0; i < n; i++) u[i] -= r[i];
+        }
+        for (i = 0; i < n && isfinite(u[i]); i++) {}
+        if (i < n) break;
+        if (loop_residual(c, cs, n, u, r, t)) return -1;
+    }
+    c->stats->loop_failed_group = group;
+    c->stats->loop_failed_time = t;
+    c->stats->loop_residual = max_abs(r, n);
+    return fail(c, "diverged");
+}
+
+/* ---------------------------------------------------------------------------- */
+/* the master                                                                     */
+
+/* Every input set to its source's output at t, loops solved; history updated. */
+static int consistent(cosim *c, double t)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int grp, k;
+    for (grp = 0; grp < g->n_groups; grp++) {
+        if (g->group_is_loop[grp]) {
+            if (solve_loop(c, grp, t)) return -1;
+        } else {
+            double y;
+            k = g->group_members[g->group_start[grp]];
+            if (source_value(c, k, t, &y) || set_input(c, k, y, t)) return -1;
+        }
+    }
+    for (k = 0; k < g->n_couplings; k++)
+        if (g->held[k]) push_history(c, k, t, c->u[k]);
+    return 0;
+}
+
+static int do_step(cosim *c, int i, double t, double h)
+{
+    instance *in = &c->inst[i];
+    fmu_step_result r;
+    memset(&r, 0, sizeof r);
+    c->stats->do_steps++;
+    in->step_start = t;
+    if (fmu_do_step(in->fmu, t, h, 0, &r) != FMU_OK) return fmu_fail(c, i, "doStep", t);
+    if (r.terminate && !c->terminated) { /* the model cannot go on (why: in its log) */
+        c->terminated = 1;
+        c->terminated_instance = i;
+        c->terminated_time = r.last_time;
+    }
+    return 0;
+}
+
+static void clear_event_flags(cosim *c)
+{
+    int i;
+    for (i = 0; i < c->cfg->n_instances; i++) {
+        c->inst[i].event_at_start = 0;
+        c->inst[i].event_in_step = INFINITY;
+    }
+}
+
+/* One communication step from t (inputs consistent at t) to t + h. */
+static int step(cosim *c, double t, double h)
+{
+    const eng_cosim_spec *g = c->cfg;
+    const int extrapolate = g->extrapolation && !c->hold_raw;
+    int i, k;
+    clear_event_flags(c);
+    if (g->scheme == ENG_JACOBI) {
+        if (extrapolate)
+            for (k = 0; k < g->n_couplings; k++)
+                if (g->held[k] && set_input(c, k, held_value(c, k, t, h, t,
+                                                              c->hist_v[k * HISTORY + c->hist_n[k] - 1]), t))
+                    return -1;
+        for (i = 0; i < g->n_instances; i++)
+            if (do_step(c, i, t, h)) return -1;
+    } else {
+        int *done = c->done, n, status = 0;
+        memset(done, 0, (size_t)g->n_instances * sizeof(int));
+        for (n = 0; n < g->n_instances && !status; n++) {
+            int name = g->sweep_order[n];
+            for (k = 0; k < g->n_couplings && !status; k++) {
+                int ahead;
+                double now, value;
+                if (g->couplings[k].target.instance != name) continue;
+                ahead = done[g->couplings[k].source.instance];
+                if (c->in_loop[k] && !(g->held[k] && extrapolate))
+                    continue; /* keeps the loop's consistent value from t */
+                if (ahead || !c->in_loop[k]) {
+                    if (source_value(c, k, t, &now)) { status = -1; break; }
+                } else {
+                    now = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
+                }
+                value = g->held[k] && extrapolate ? held_value(c, k, t, h, ahead ? t + h : t, now)
+                                                  : now;
+                if (set_input(c, k, value, t)) status = -1;
+            }
+            if (!status && do_step(c, name, t, h)) status = -1;
+            done[name] = 1;
+        }
+        if (status) return -1;
+    }
+    if (!c->terminated) return consistent(c, t + h);
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------- */
+/* rollback                                                                       */
+
+static int snap_alloc(cosim *c, snapshot *s)
+{
+    int n = c->cfg->n_couplings > 0 ? c->cfg->n_couplings : 1;
+    s->fmu_state = (void **)calloc((size_t)c->cfg->n_instances, sizeof(void *));
+    s->hist_t = (double *)calloc((size_t)n * HISTORY, sizeof(double));
+    s->hist_v = (double *)calloc((size_t)n * HISTORY, sizeof(double));
+    s->hist_n = (int *)calloc((size_t)n, sizeof(int));
+    s->n_events = (long *)calloc((size_t)c->cfg->n_instances, sizeof(long));
+    return s->fmu_state && s->hist_t && s->hist_v && s->hist_n && s->n_events ? 0 : -1;
+}
+
+static void snap_free(cosim *c, snapshot *s)
+{
+    int i;
+    if (s->fmu_state)
+        for (i = 0; i < c->cfg->n_instances; i++)
+            if (s->fmu_state[i]) fmu_free_state(c->inst[i].fmu, &s->fmu_state[i]);
+    free(s->fmu_state);
+    free(s->hist_t);
+    free(s->hist_v);
+    free(s->hist_n);
+    free(s->n_events);
+    memset(s, 0, sizeof *s);
+}
+
+static int save(cosim *c, snapshot *s, double t)
+{
+    int i, n = c->cfg->n_couplings;
+    for (i = 0; i < c->cfg->n_instances; i++) {
+        if (fmu_get_state(c->inst[i].fmu, &s->fmu_state[i]) != FMU_OK)
+            return fmu_fail(c, i, "getFMUState", t);
+        s->n_events[i] = c->inst[i].events->n_rows;
+    }
+    memcpy(s->hist_t, c->hist_t, (size_t)n * HISTORY * sizeof(double));
+    memcpy(s->hist_v, c->hist_v, (size_t)n * HISTORY * sizeof(double));
+    memcpy(s->hist_n, c->hist_n, (size_t)n * sizeof(int));
+    s->terminated = c->terminated;
+    s->terminated_instance = c->terminated_instance;
+    s->terminated_time = c->terminated_time;
+    s->t = t;
+    return 0;
+}
+
+static int restore_instance(cosim *c, const snapshot *s, int i)
+{
+    if (fmu_set_state(c->inst[i].fmu, s->fmu_state[i]) != FMU_OK)
+        return fmu_fail(c, i, "setFMUState", s->t);
+    c->inst[i].events->n_rows = s->n_events[i]; /* events of a step that did not count */
+    return 0;
+}
+
+static int restore(cosim *c, const snapshot *s)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int i, k, n = g->n_couplings;
+    for (i = 0; i < g->n_instances; i++)
+        if (restore_instance(c, s, i)) return -1;
+    memcpy(c->hist_t, s->hist_t, (size_t)n * HISTORY * sizeof(double));
+    memcpy(c->hist_v, s->hist_v, (size_t)n * HISTORY * sizeof(double));
+    memcpy(c->hist_n, s->hist_n, (size_t)n * sizeof(int));
+    c->terminated = s->terminated;
+    c->terminated_instance = s->terminated_instance;
+    c->terminated_time = s->terminated_time;
+    /* the inputs are part of each FMU's state; read them back into the master's copy */
+    for (k = 0; k < n; k++) {
+        const eng_variable *v = &g->couplings[k].target;
+        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &c->u[k]))
+            return fmu_fail(c, v->instance, "get of a coupled input", s->t);
+    }
+    return 0;
+}
+
+static int state_vector(cosim *c, double *x, double t)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int j;
+    for (j = 0; j < g->n_states; j++) {
+        const eng_variable *v = &g->states[j];
+        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &x[j]))
+            return fmu_fail(c, v->instance, "get of a state", t);
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------- */
+/* event synchronisation                                                          */
+
+static double earliest_event_in_step(const cosim *c)
+{
+    double te = INFINITY;
+    int i;
+    for (i = 0; i < c->cfg->n_instances; i++) te = fmin(te, c->inst[i].event_in_step);
+    return te;
+}
+
+static int any_event_at_start(const cosim *c)
+{
+    int i;
+    for (i = 0; i < c->cfg->n_instances; i++)
+        if (c->inst[i].event_at_start) return 1;
+    return 0;
+}
+
+/* The step a probe takes to see whether an event fires at its start: the FMU handles
+   such an event before it integrates, so any length the FMU accepts will do. */
+static double probe_step(double t) { return 1e-8 * fmax(1.0, fabs(t)); }
+
+/* Would an event fire at the start of the next step from t (inputs consistent at t)?
+   Each instance in `which` takes a tiny step and is put back. */
+static int fires_at_start(cosim *c, const int *which, double t, double h_probe, int *fires)
+{
+    snapshot *p = &c->snap[2];
+    int i;
+    *fires = 0;
+    for (i = 0; i < c->cfg->n_instances && !*fires; i++) {
+        instance *in = &c->inst[i];
+        if (!which[i]) continue;
+        if (fmu_get_state(in->fmu, &p->fmu_state[i]) != FMU_OK) return fmu_fail(c, i, "getFMUState", t);
+        p->n_events[i] = in->events->n_rows;
+        in->event_at_start = 0;
+        in->event_in_step = INFINITY;
+        in->step_start = t;
+        {
+            fmu_step_result r;
+            if (fmu_do_step(in->fmu, t, h_probe, 0, &r) != FMU_OK) return fmu_fail(c, i, "doStep", t);
+        }
+        c->stats->do_steps++;
+        *fires = in->event_at_start;
+        p->t = t;
+        if (restore_instance(c, p, i)) return -1;
+    }
+    return 0;
+}
+
+/* An event fired at the start of the step from prev->t + h_prev: the inputs crossed
+   an indicator's zero somewhere in the previous step. Bisect that step (rollback to
+   `prev`) for the earliest point where the event fires, and leave the run there:
+   returns the new time in *t_event. `which`: the instances whose event it was. */
+static int locate_start_event(cosim *c, const snapshot *prev, double h_prev, const int *which,
+                              double *t_event)
+{
+    double lo = 0.0, hi = h_prev, t0 = prev->t;
+    double width = fmax(c->cfg->event_tol, 4e-16 * fmax(1.0, fabs(t0)));
+    double probe = probe_step(t0);
+    while (hi - lo > width) {
+        double m = 0.5 * (lo + hi);
+        int fires;
+        if (restore(c, prev) || step(c, t0, m)) return -1;
+        if (c->terminated) { hi = m; continue; }
+        if (fires_at_start(c, which, t0 + m, probe, &fires)) return -1;
+        if (fires) hi = m;
+        else lo = m;
+    }
+    if (restore(c, prev) || step(c, t0, hi)) return -1;
+    c->stats->events_located++;
+    *t_event = t0 + hi;
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------- */
+/* the run                                                                        */
+
+static int sample(cosim *c, double t, double *row)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int j;
+    row[0] = t;
+    for (j = 0; j < g->n_columns; j++) {
+        const eng_variable *v = &g->columns[j];
+        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &row[1 + j]))
+            return fmu_fail(c, v->instance, "get of a recorded output", t);
+    }
+    return 0;
+}
+
+/* Everything allocated, every FMU loaded with its start values; -1: message set. */
+static int create(cosim *c, const eng_cosim_spec *g)
+{
+    int i, k, grp, n_c = g->n_couplings > 0 ? g->n_couplings : 1, width_max = 1;
+    int *widths = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    if (!widths) return fail(c, "out of memory");
+    for (i = 0; i < g->n_instances; i++) {
+        widths[i] = 1 + g->instances[i].n_event_outputs;
+        if (widths[i] > width_max) width_max = widths[i];
+    }
+    c->run = eng_run_new(g->n_instances, widths);
+    free(widths);
+    c->inst = (instance *)calloc((size_t)g->n_instances + 1, sizeof(instance));
+    c->fmus = (fmu_t **)calloc((size_t)g->n_instances + 1, sizeof(fmu_t *));
+    c->u = (double *)calloc((size_t)n_c, sizeof(double));
+    c->hist_t = (double *)calloc((size_t)n_c * HISTORY, sizeof(double));
+    c->hist_v = (double *)calloc((size_t)n_c * HISTORY, sizeof(double));
+    c->hist_n = (int *)calloc((size_t)n_c, sizeof(int));
+    c->in_loop = (int *)calloc((size_t)n_c, sizeof(int));
+    c->done = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->which = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->state = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
+    c->coarse = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
+    c->scratch = (double *)calloc((size_t)n_c * (size_t)(n_c + 3), sizeof(double));
+    c->row = (double *)calloc((size_t)width_max, sizeof(double));
+    if (!c->run || !c->inst || !c->fmus || !c->u || !c->hist_t || !c->hist_v || !c->hist_n
+        || !c->in_loop || !c->done || !c->which || !c->state || !c->coarse || !c->scratch || !c->row)
+        return fail(c, "out of memory");
+    for (i = 0; i < 3; i++)
+        if (snap_alloc(c, &c->snap[i])) return fail(c, "out of memory");
+    for (grp = 0; grp < g->n_groups; grp++)
+        if (g->group_is_loop[grp])
+            for (k = g->group_start[grp]; k < g->group_start[grp + 1]; k++)
+                c->in_loop[g->group_members[k]] = 1;
+    for (i = 0; i < g->n_instances; i++) {
+        instance *in = &c->inst[i];
+        char err[512];
+        in->owner = c;
+        in->index = i;
+        in->events = &c->run->tables[i];
+        in->event_in_step = INFINITY;
+        in->fmu = c->fmus[i] = eng_instantiate(&g->instances[i], FMU_CO_SIMULATION, on_intermediate,
+                                               in, 0, err, sizeof err);
+        if (!in->fmu) return fail(c, "%s: %s", g->instances[i].instance_name, err);
+    }
+    return 0;
+}
+
+static int initialise(cosim *c)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int i;
+    for (i = 0; i < g->n_instances; i++)
+        if (fmu_enter_initialization(c->fmus[i], g->tolerance, 0.0, g->stop_time) != FMU_OK)
+            return fmu_fail(c, i, "enter initialization", 0.0);
+    if (consistent(c, 0.0)) return -1;
+    for (i = 0; i < g->n_instances; i++)
+        if (fmu_exit_initialization(c->fmus[i]) != FMU_OK)
+            return fmu_fail(c, i, "exit initialization", 0.0);
+    return consistent(c, 0.0);
+}
+
+/* Step controller of adaptive.py: error per unit step, exponent 1/p. */
+typedef struct {
+    double tol, horizon, h_max, h_min;
+    int order;
+} controller;
+
+/* `noise`: what the FMUs' own solvers leave, a floor below which the two runs of
+   step doubling cannot agree whatever the step (without it the step would shrink
+   without end where the coupling error is smaller than that). */
+static int judge(cosim *c, const controller *k, double error, double noise, double h,
+                 double *h_next)
+{
+    double allowed = k->tol * h / k->horizon + noise, factor;
+    int ok = error <= allowed;
+    if (ok) {
+        c->run_stats->steps++;
+        c->stats->error_ratio_max = fmax(c->stats->error_ratio_max, error / allowed);
+    } else {
+        c->run_stats->rejected++;
+    }
+    factor = error == 0.0 ? 4.0
+                          : fmin(4.0, fmax(0.2, 0.9 * pow(allowed / error, 1.0 / k->order)));
+    /* a rejected step shrinks, by what the estimate says (halving regardless wastes
+       steps where the error is close to the noise floor); the step after a rejection
+       does not grow (Hairer's rule against reject/accept cycles) */
+    if (!ok) factor = fmin(factor, 0.9);
+    else if (c->rejected_last) factor = fmin(factor, 1.0);
+    c->rejected_last = !ok;
+    *h_next = fmin(k->h_max, h * factor);
+    return ok;
+}
+
+static void swap_snapshots(cosim *c)
+{
+    snapshot s = c->snap[0];
+    c->snap[0] = c->snap[1];
+    c->snap[1] = s;
+}
+
+static int needs_rollback_capability(cosim *c)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int i;
+    if (!g->adaptive && !g->event_sync) return 0;
+    for (i = 0; i < g->n_instances; i++)
+        if (!fmu_can_get_set_state(c->fmus[i]))
+            return fail(c, "%s co-simulation rolls steps back, but FMU instance '%s' cannot get "
+                        "and set its state (canGetAndSetFMUState is false); use a fixed step "
+                        "without event synchronisation",
+                        g->adaptive ? "adaptive" : "event-synchronised", g->instances[i].instance_name);
+    return 0;
+}
+
+/* The run after initialisation: steps, rows at the output times. */
+static int run(cosim *c, eng_progress *progress)
+{
+    const eng_cosim_spec *g = c->cfg;
+    const int width = 1 + g->n_columns;
+    const int rollback = g->adaptive || g->event_sync;
+    const double *out_times = g->times + 1;
+    const long n_out = g->n_times - 1;
+    controller ctl;
+    double t = 0.0, h, h_prev = 0.0, located_at = -INFINITY;
+    long k = 0;
+    int i, have_prev = 0;
+
+    if (sample(c, 0.0, g->out)) return -1;
+    c->run_stats->n_rows = 1;
+    if (n_out < 1) return 0;
+    ctl.tol = g->tol;
+    ctl.horizon = out_times[n_out - 1];
+    ctl.h_max = g->step;
+    ctl.h_min = 1e-12 * ctl.horizon;
+    ctl.order = g->extrapolation == 0 ? 1 : 2;
+    h = g->adaptive ? g->step / 4 : g->step;
+
+    while (k < n_out) {
+        double target = out_times[k], h_try, eps_t = 1e-12 * fmax(1.0, fabs(target));
+        int at_event = 0, ok = 1;
+
+        if (t >= target - eps_t || c->terminated) {
+            if (sample(c, c->terminated ? t : target, g->out + (size_t)(k + 1) * (size_t)width))
+                return -1;
+            k++;
+            c->run_stats->n_rows = k + 1;
+            c->run_stats->t_end = t;
+            if (c->terminated) break;
+            if (eng_progress_check(progress, t)) {
+                c->run_stats->status = ENG_STOPPED;
+                break;
+            }
+            continue;
+        }
+        h_try = g->adaptive ? h : target - t;
+        /* no sliver before an output point: stretch the step up to 25 % to reach it,
+           unless the step was just rejected at that length */
+        if (g->adaptive && (t + h_try > target
+                            || (target - (t + h_try) < 0.25 * h_try && !c->rejected_last)))
+            h_try = target - t;
+
+        if (rollback && save(c, &c->snap[0], t)) return -1;
+        for (;;) { /* the (coarse) step, shortened to end at the first event inside it */
+            double te;
+            if (step(c, t, h_try)) return -1;
+            if (!g->event_sync) break;
+            if (any_event_at_start(c) && t > located_at) {
+                double t_event;
+                for (i = 0; i < g->n_instances; i++) c->which[i] = c->inst[i].event_at_start;
+                if (g->extrapolation && !c->hold_raw) {
+                    /* an extrapolated held input runs ahead of its source (it is the mean
+                       over the coming step): if the sources' own values at t do not fire
+                       the event, it is premature, and the step is redone holding them */
+                    int fires;
+                    if (restore(c, &c->snap[0])
+                        || fires_at_start(c, c->which, t, probe_step(t), &fires))
+                        return -1;
+                    if (!fires) {
+                        c->hold_raw = 1;
+                        continue;
+                    }
+                }
+                if (!have_prev) { /* at the start of the run: nothing to go back into */
+                    located_at = t;
+                    if (restore(c, &c->snap[0])) return -1;
+                    continue;
+                }
+                if (locate_start_event(c, &c->snap[1], h_prev, c->which, &t_event)) return -1;
+                located_at = t = t_event;
+                h_prev = t_event - c->snap[1].t;
+                /* rows sampled after the event's new time are sampled again */
+                while (k > 0 && out_times[k - 1] > t + 1e-12 * fmax(1.0, fabs(t))) k--;
+                c->run_stats->n_rows = k + 1;
+                ok = -1; /* go round: the next step starts at the located event */
+                break;
+            }
+            te = earliest_event_in_step(c);
+            if (!at_event && te - t > g->event_tol && te < t + h_try) {
+                double margin = fmin(g->event_tol, 0.5 * (t + h_try - te));
+                if (restore(c, &c->snap[0])) return -1;
+                h_try = te - t + margin;
+                at_event = 1;
+                c->stats->events_synchronised++;
+                continue;
+            }
+            break;
+        }
+        if (ok < 0) {
+            c->hold_raw = 0;
+            continue;
+        }
+
+        if (g->adaptive) {
+            double error = 0.0, noise = 0.0, h_next;
+            int j;
+            if (state_vector(c, c->coarse, t) || restore(c, &c->snap[0])) return -1;
+            if (step(c, t, h_try / 2)) return -1;
+            if (!c->terminated && step(c, t + h_try / 2, h_try / 2)) return -1;
+            if (c->terminated) { /* the model ended the run: keep what it did */
+                t = c->terminated_time;
+                continue;
+            }
+            if (g->event_sync && any_event_at_start(c) && t + h_try / 2 > located_at) {
+                /* an event fired where the two half steps meet: the coupled system
+                   crossed inside the first half. Keep the first half alone (the error
+                   of the whole step is the event's, not the coupling's); the next
+                   step fires the event at its start and moves it back there. */
+                if (restore(c, &c->snap[0]) || step(c, t, h_try / 2)) return -1;
+                h_try /= 2;
+                h = h_try;
+                c->run_stats->steps++;
+                ok = 1;
+            } else {
+            if (state_vector(c, c->state, t)) return -1;
+            for (j = 0; j < g->n_states; j++) {
+                error = fmax(error, fabs(c->state[j] - c->coarse[j]));
+                noise = fmax(noise, g->tolerance * (1.0 + fabs(c->state[j])));
+            }
+            error /= (double)((1 << ctl.order) - 1);
+            ok = judge(c, &ctl, error, noise, h_try, &h_next);
+            if (!ok && restore(c, &c->snap[0])) return -1;
+            h = h_next;
+            if (h < ctl.h_min)
+                return fail(c, "adaptive step fell below %.3g s at t = %g (tol %g cannot be met)",
+                            ctl.h_min, t, g->tol);
+            }
+        } else {
+            c->run_stats->steps++;
+        }
+        c->hold_raw = 0;
+        if (c->terminated) { /* a fixed step's row keeps its time, as in the reference */
+            t = target;
+            continue;
+        }
+        if (ok) {
+            c->stats->h_min = fmin(c->stats->h_min, h_try);
+            c->stats->h_max = fmax(c->stats->h_max, h_try);
+            t = fabs(target - (t + h_try)) < eps_t ? target : t + h_try;
+            if (rollback) {
+                swap_snapshots(c); /* the step's start becomes the previous step's */
+                h_prev = h_try;
+                have_prev = 1;
+            }
+        }
+    }
+    return 0;
+}
+
+static void destroy(cosim *c)
+{
+    int i;
+    for (i = 0; i < 3; i++) snap_free(c, &c->snap[i]);
+    if (c->inst)
+        for (i = 0; i < c->cfg->n_instances; i++) fmu_free(c->inst[i].fmu);
+    free(c->inst);
+    free(c->fmus);
+    free(c->u);
+    free(c->hist_t);
+    free(c->hist_v);
+    free(c->hist_n);
+    free(c->in_loop);
+    free(c->done);
+    free(c->which);
+    free(c->state);
+    free(c->coarse);
+    free(c->scratch);
+    free(c->row);
+}
+
+ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
+                                eng_cosim_stats *cosim_stats)
+{
+    cosim c;
+    eng_progress progress;
+    memset(&c, 0, sizeof c);
+    memset(stats, 0, sizeof *stats);
+    memset(cosim_stats, 0, sizeof *cosim_stats);
+    stats->terminated_by = -1;
+    cosim_stats->loop_failed_group = -1;
+    cosim_stats->h_min = INFINITY;
+    c.cfg = spec;
+    c.run_stats = stats;
+    c.stats = cosim_stats;
+    eng_progress_start(&progress, spec->progress, spec->progress_ctx);
+    stats->status = ENG_DONE;
+    if (spec->n_times < 1) {
+        fail(&c, "no output times");
+        stats->status = ENG_FAILED;
+    } else if (create(&c, spec) || needs_rollback_capability(&c) || initialise(&c)
+               || run(&c, &progress)) {
+        stats->status = ENG_FAILED;
+    } else if (c.terminated) {
+        stats->status = ENG_TERMINATED;
+        stats->terminated_by = c.terminated_instance;
+        stats->t_end = c.terminated_time;
+        snprintf(stats->message, sizeof stats->message, "%s", fmu_message(c.fmus[c.terminated_instance]));
+    }
+    if (cosim_stats->h_max == 0.0) cosim_stats->h_min = NAN, cosim_stats->h_max = NAN;
+    destroy(&c);
+    return c.run;
+}

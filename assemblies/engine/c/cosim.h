@@ -1,0 +1,94 @@
+/*
+ * cosim.h: the engine's co-simulation master for Co-Simulation FMUs (FMI 2 and 3).
+ *
+ * The Python side works out everything structural (couplings, their dependency
+ * groups and algebraic loops, the Gauss–Seidel order, which inputs the FMUs hold
+ * constant over a step) and hands it here in one configuration; the master then
+ * loads the FMUs (fmu.h), initialises them and runs the whole experiment in C:
+ *
+ *   - Jacobi or Gauss–Seidel sweeps; inputs made consistent with outputs at every
+ *     communication point, algebraic loops by Newton with the FMUs' directional
+ *     derivatives (or plain fixed-point iteration);
+ *   - on inputs the FMU holds constant over a step, the step mean of the polynomial
+ *     of order 0/1/2 through the source's last values (FMI 3 has no input
+ *     derivatives; inputs the FMU extrapolates itself are set as plain values);
+ *   - fixed communication steps, or adaptive ones: step doubling on the FMUs'
+ *     continuous states, rollback through FMU state when a step is rejected;
+ *   - event synchronisation (optional; on by default with adaptive steps): a step in
+ *     which an FMU locates an event is redone to end at the event, and an event an
+ *     FMU handles at the start of a step (its inputs moved across an indicator's
+ *     zero at the communication point) is moved back to where the coupled system
+ *     crossed, by bisection of the previous step through rollback;
+ *   - outputs at events recorded through FMI 3 intermediate update, terminate
+ *     requests honoured, a progress callback about every 0.25 s of wall time that
+ *     may stop the run (what was computed is kept).
+ *
+ * The step mean, the sweeps and the loop solver follow the Python reference master
+ * (assemblies/masters/) statement by statement, so that at a fixed step without
+ * event synchronisation both give the same numbers. The adaptive step is its step
+ * doubling with three changes measured on the friction scenes: the FMUs' own solver
+ * error is a floor under the allowed error (below it the two runs cannot agree and
+ * the step would shrink without end), a rejected step shrinks by what the estimate
+ * says with no growth on the next step (halving regardless made reject/accept
+ * cycles), and an event where the half steps meet keeps the first half alone.
+ */
+#ifndef MECHFMU_ENGINE_COSIM_H
+#define MECHFMU_ENGINE_COSIM_H
+
+#include "engine.h"
+
+enum { ENG_JACOBI = 0, ENG_GAUSS_SEIDEL = 1 };
+
+typedef struct {
+    int n_instances;
+    const eng_instance_spec *instances;
+    int n_couplings;
+    const eng_coupling *couplings;  /* target = gain * source, any order */
+    const int *held;                /* per coupling: 1 if the FMU holds the input constant
+                                       over a step (no derivative input extrapolates it) */
+    int n_groups;                   /* coupling groups in dependency order (sources first) */
+    const int *group_start;         /* n_groups + 1 offsets into group_members */
+    const int *group_members;       /* coupling indices */
+    const int *group_is_loop;
+    const int *sweep_order;         /* instance indices, Gauss–Seidel order */
+    int n_states;                   /* the FMUs' continuous states (error estimate) */
+    const eng_variable *states;
+    int n_columns;
+    const eng_variable *columns;
+    long n_times;
+    const double *times;            /* output times: 0, then increasing to the stop time */
+    double *out;                    /* n_times x (1 + n_columns), row-major, time first */
+    double stop_time, tolerance;    /* tolerance: the FMUs' own solver tolerance */
+    double step;                    /* fixed: the step; adaptive: the largest step */
+    int scheme;                     /* ENG_JACOBI or ENG_GAUSS_SEIDEL */
+    int extrapolation;              /* 0, 1, 2 */
+    int adaptive;
+    double tol;                     /* adaptive: global error tolerance on the states */
+    double loop_tolerance;
+    int max_loop_iterations;
+    int newton;
+    int event_sync;
+    double event_tol;               /* event synchronisation: final bracket width [s] */
+    eng_progress_fn progress;       /* may be NULL */
+    void *progress_ctx;
+} eng_cosim_spec;
+
+typedef struct {
+    long do_steps, loop_iterations;
+    double loop_residual;
+    double h_min, h_max, error_ratio_max;
+    long events_synchronised;       /* steps redone to end at an event */
+    long events_located;            /* start-of-step events moved back by bisection */
+    int loop_failed_group;          /* after a failure in an algebraic loop: its group ... */
+    int loop_singular;              /* ... 1: singular Newton matrix, 0: no convergence ... */
+    double loop_failed_time;        /* ... at this time (Python words the message) */
+} eng_cosim_stats;
+
+/* Co-simulation of Co-Simulation FMUs, one call per run. stats->status is ENG_DONE,
+   ENG_STOPPED (progress callback), ENG_TERMINATED or ENG_FAILED (stats->message);
+   stats->n_rows rows of `out` are valid in every case. Returns the event tables
+   (eng_run_events, eng_run_free); NULL only when memory for them runs out. */
+ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
+                                eng_cosim_stats *cosim_stats);
+
+#endif

@@ -1,0 +1,117 @@
+/*
+ * engine.h: the compiled engine's public entry points and the description of a
+ * run that Python (assemblies/engine/binding.py) fills in through ctypes.
+ *
+ * One call per run: the caller describes the instances (extracted FMUs, start
+ * values), the couplings (in evaluation order), the recorded columns and the
+ * output times, and gives an output buffer of n_times x n_columns doubles
+ * (row-major). The call fills the buffer and returns an eng_run handle holding
+ * what has no fixed size (the outputs at each event, one table per event group);
+ * the caller reads it with eng_run_events and frees it with eng_run_free.
+ *
+ * Nothing here aborts: failures end the run with status ENG_FAILED and a one-line
+ * message naming the instance; every output row computed before stays valid.
+ */
+#ifndef MECHFMU_ENGINE_H
+#define MECHFMU_ENGINE_H
+
+#include <stdint.h>
+
+#define ENG_API __attribute__((visibility("default")))
+
+/* A variable of an instance: a recorded column, an output kept at events. */
+typedef struct {
+    int instance;
+    uint32_t vr;
+    int is_int; /* Int32 (FMI 2 Integer); otherwise Float64 (FMI 2 Real) */
+} eng_variable;
+
+typedef struct {
+    const char *unzip_dir;           /* the extracted FMU */
+    const char *model_identifier;    /* of the interface the run uses */
+    const char *instantiation_token;
+    const char *instance_name;
+    int fmi_version;                 /* 2 or 3 */
+    int n_states, n_event_indicators;
+    int can_get_set_state, provides_directional_derivative;
+    /* parameters and start values, set before initialization */
+    int n_float_starts;
+    const uint32_t *float_start_vr;
+    const double *float_start_values;
+    int n_int_starts;
+    const uint32_t *int_start_vr;
+    const int32_t *int_start_values;
+    /* outputs recorded at this instance's events (time first, then these), by the
+       co-simulation master; the ME master takes them from eng_event_group */
+    int n_event_outputs;
+    const uint32_t *event_output_vr;
+    const int *event_output_is_int;
+} eng_instance_spec;
+
+/* Outputs recorded at the events of some indicators of one instance: one event table
+   (time first, then these outputs). An ordinary instance has one group covering all
+   its indicators; a composite FMU (a joined model) has one per member, so that each
+   member's events are told apart as they are in separate FMUs. */
+typedef struct {
+    int instance;
+    int first_indicator, n_indicators; /* the instance's indicators [first, first + n) */
+    int n_outputs;
+    const uint32_t *output_vr;
+    const int *output_is_int;
+} eng_event_group;
+
+/* target input = gain * source output */
+typedef struct {
+    eng_variable source, target;
+    double gain;
+} eng_coupling;
+
+/* Called about every 0.25 s of wall time with the simulated time; nonzero stops the
+   run cleanly at the last completed step. */
+typedef int (*eng_progress_fn)(void *ctx, double t);
+
+enum { ENG_DONE = 0, ENG_STOPPED = 1, ENG_TERMINATED = 2, ENG_FAILED = -1 };
+enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1 };
+
+typedef struct {
+    int status;           /* ENG_DONE, ENG_STOPPED, ENG_TERMINATED or ENG_FAILED */
+    long n_rows;          /* output rows written (all of them when ENG_DONE) */
+    double t_end;         /* the time the run reached */
+    long steps, rejected, rhs_calls, jacobians, events;
+    int terminated_by;    /* the instance that ended the run (ENG_TERMINATED), else -1 */
+    char message[1024];   /* the error (ENG_FAILED) or the terminating FMU's last message */
+} eng_stats;
+
+typedef struct {
+    int n_instances;
+    const eng_instance_spec *instances;
+    int n_couplings;
+    const eng_coupling *couplings; /* in evaluation order: a source's inputs are set first */
+    int n_columns;
+    const eng_variable *columns;
+    int n_event_groups;
+    const eng_event_group *event_groups;
+    long n_times;
+    const double *times;           /* increasing, from 0 */
+    double *out;                   /* n_times x n_columns, row-major */
+    double stop_time, tolerance;   /* tolerance: relative = absolute error of the solver */
+    int method;                    /* ENG_DOPRI5 or ENG_RODAS3 */
+    int event_subsamples;          /* interior points scanned per step for double crossings */
+    eng_progress_fn progress;      /* may be NULL */
+    void *progress_ctx;
+} eng_me_spec;
+
+typedef struct eng_run eng_run;
+
+/* Model Exchange: all continuous states of all instances in one integrator (a single
+   FMU, e.g. a composite one, is the case n_instances = 1). NULL only when memory for
+   the handle itself runs out (then stats->message says so). */
+ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats);
+
+/* The rows recorded for event group `group`: n_rows x width doubles, row-major,
+   width = 1 + the group's n_outputs (time first). 0 on success. */
+ENG_API int eng_run_events(const eng_run *run, int group, const double **rows, long *n_rows,
+                           int *width);
+ENG_API void eng_run_free(eng_run *run);
+
+#endif

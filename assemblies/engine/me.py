@@ -1,0 +1,262 @@
+"""Model Exchange and monolithic runs in the compiled engine (engine="c").
+
+``simulate_me``: every instance as a Model Exchange FMU, all continuous states in the
+engine's one integrator (c/me.c). ``simulate_monolithic``: the assembly joined into one
+composite FMU (:func:`assemblies.masters.monolithic.composite`), run by the same master
+as a single instance. Both take the arguments and return the Result shape of the fmpy
+reference masters (:mod:`assemblies.masters.me`, :mod:`assemblies.masters.monolithic`).
+"""
+from __future__ import annotations
+
+import ctypes as C
+import functools
+import math
+import threading
+import time as wallclock
+from typing import Callable
+
+import numpy as np
+
+from ..assembly import Assembly, AssemblyError
+from ..experiment import check_experiment
+from ..masters.me import coupling_order
+from ..result import Result, Table
+from . import binding as B
+from .build import library
+from .prepare import options_key, prepared, prepared_composite, record_columns
+
+METHODS = {"DOPRI5": 0, "RODAS3": 1}
+EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
+
+
+def _output_times(stop_time: float, step: float) -> np.ndarray:
+    n_out = max(1, math.ceil(stop_time / step - 1e-9))
+    return np.minimum(np.arange(n_out + 1) * step, stop_time)
+
+
+class _Plan:
+    """Everything of one engine call that depends only on the assembly's structure (its
+    instances' classes, profiles and options, its connections, what is recorded): the
+    FMUs and the C descriptions of instances, couplings, columns and event groups.
+    Built once and reused, so that a repeated run costs its C call and little else;
+    only the start values are refilled per run (parameter studies change them)."""
+
+    def __init__(self, instances, couplings, columns, groups):
+        """instances: (name, PreparedFmu, start keys); couplings: ordered assembly
+        Couplings; columns: (instance index, variable); groups: (instance index, first
+        indicator, count, outputs)."""
+        self.lock = threading.Lock()  # a plan's start values are one run's at a time
+        self.keep = keep = B.Keep()
+        self.names = [n for n, _, _ in instances]
+        self.fmus = [f for _, f, _ in instances]
+        index = {n: i for i, n in enumerate(self.names)}
+        self.start_keys, self.start_arrays = [], []
+        specs = []
+        for name, fmu, keys in instances:
+            spec = B.instance_spec(keep, name, fmu, fmu.me_identifier, {k: 0 for k in keys})
+            floats = [k for k in keys if not fmu.variable(name, k)[1]]
+            ints = [k for k in keys if fmu.variable(name, k)[1]]
+            f_values, i_values = np.zeros(max(1, len(floats))), np.zeros(max(1, len(ints)),
+                                                                        dtype=np.int32)
+            spec.float_start_values = keep.numpy(f_values, C.c_double)
+            spec.int_start_values = keep.numpy(i_values, C.c_int32)
+            self.start_keys.append((floats, ints))
+            self.start_arrays.append((f_values, i_values))
+            specs.append(spec)
+        self.specs = (B.InstanceSpec * len(specs))(*specs)
+
+        def variable(inst_name, var):
+            i = index[inst_name]
+            vr, is_int = self.fmus[i].variable(inst_name, var)
+            return B.Variable(i, vr, int(is_int))
+
+        self.n_couplings = len(couplings)
+        self.couplings = (B.Coupling * max(1, len(couplings)))(*[
+            B.Coupling(variable(*c.source), variable(*c.target), c.gain) for c in couplings])
+        self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
+        self.columns = (B.Variable * max(1, len(columns)))(*[
+            variable(self.names[i], v) for i, v in columns])
+        self.groups = groups
+        gs = []
+        for i, first, count, outputs in groups:
+            outs = [self.fmus[i].variable(self.names[i], v) for v in outputs]
+            gs.append(B.EventGroup(i, first, count, len(outs),
+                                   keep.array(C.c_uint32, [vr for vr, _ in outs]),
+                                   keep.array(C.c_int, [int(k) for _, k in outs])))
+        self.group_array = (B.EventGroup * max(1, len(gs)))(*gs)
+
+    def set_starts(self, starts: list[dict]) -> None:
+        """This run's parameters and start values, instance by instance."""
+        for (floats, ints), (f_values, i_values), values in zip(self.start_keys,
+                                                                self.start_arrays, starts):
+            f_values[:len(floats)] = [values[k] for k in floats]
+            i_values[:len(ints)] = [int(values[k]) for k in ints]
+
+    def run(self, name, stop_time, step, tolerance, method, progress, event_subsamples,
+            scheme) -> tuple[dict, list, dict]:
+        """One engine call: (columns, event rows per group, settings)."""
+        lib = _engine()
+        times = _output_times(stop_time, step)
+        out = np.zeros((len(times), len(self.column_names)))
+        prog = B.Progress(progress)
+        dp = C.POINTER(C.c_double)
+        spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
+                        len(self.column_names), self.columns, len(self.groups),
+                        self.group_array, len(times), times.ctypes.data_as(dp),
+                        out.ctypes.data_as(dp), stop_time, tolerance, METHODS[method],
+                        event_subsamples, prog.callback, None)
+        stats = B.Stats()
+        started = wallclock.perf_counter()
+        with prog.sigint():
+            run = lib.eng_simulate_me(C.byref(spec), C.byref(stats))
+        wall = wallclock.perf_counter() - started
+        try:
+            events = [B.run_events(lib, run, g) for g in range(len(self.groups))] if run else []
+        finally:
+            lib.eng_run_free(run)
+        prog.reraise()
+        message = stats.message.decode("utf-8", "replace")
+        if stats.status == B.FAILED:
+            raise B.EngineError(f"assembly '{name}': {message}")
+        n = stats.n_rows
+        table = {"time": times[:n]}
+        for k, column in enumerate(self.column_names):
+            table[column] = out[:n, k]
+        by = stats.terminated_by
+        settings = {
+            "stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": scheme,
+            "method": method, "engine": "c", "wall_s": wall, "engine_s": wall,
+            "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
+            "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
+            "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
+            "terminated": None if stats.status != B.TERMINATED else
+            {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
+             "message": message}}
+        return table, events, settings
+
+
+_plans: dict = {}
+
+
+@functools.lru_cache(maxsize=None)
+def _engine():
+    lib = library()
+    B.declare(lib)
+    return lib
+
+
+def _structure_key(assembly: Assembly) -> tuple:
+    return (assembly.name,
+            tuple((n, type(c), c.profile.name, options_key(c)) for n, c in assembly.components.items()),
+            tuple((c.a, c.b) for c in assembly.connections))
+
+
+def _plan(key, build) -> _Plan:
+    plan = _plans.get(key)
+    if plan is None:
+        plan = _plans[key] = build()
+    return plan
+
+
+def _check(stop_time, step, tolerance, method):
+    check_experiment(stop_time, step, tolerance, "output step")
+    if method not in METHODS:
+        raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
+
+
+def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-8,
+                record: list[str] | None = None, method: str = "DOPRI5",
+                progress: Callable[[float], None] | None = None,
+                event_subsamples: int = EVENT_SUBSAMPLES, fmi_version: int = 3) -> Result:
+    """Integrate `assembly` as Model Exchange FMUs in the engine; a row every `step` s.
+
+    Same result as :func:`assemblies.masters.me.simulate_me`. `event_subsamples`:
+    interior points of each step where the indicators are sampled, so that one
+    crossing twice inside a step is found (0: step ends only).
+    """
+    _check(stop_time, step, tolerance, method)
+    started = wallclock.perf_counter()
+
+    def build():
+        couplings = assembly.couplings()  # resolves the causality profiles
+        fmus = {name: prepared(comp, fmi_version) for name, comp in assembly.components.items()}
+        for name, fmu in fmus.items():
+            if fmu.me_identifier is None:
+                raise AssemblyError(f"{name}: its FMU has no Model Exchange interface")
+        names = list(fmus)
+        columns = [(names.index(i), v) for i, v in record_columns(fmus, record)]
+        groups = [(i, 0, fmus[n].n_event_indicators, fmus[n].outputs)
+                  for i, n in enumerate(names) if fmus[n].n_event_indicators]
+        keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
+        return _Plan(keys, coupling_order(couplings, fmus), columns, groups)
+
+    key = ("me", _structure_key(assembly), None if record is None else tuple(record), fmi_version)
+    plan = _plan(key, build)
+    with plan.lock:
+        plan.set_starts([{**c.values, **c.starts} for c in assembly.components.values()])
+        table, events, settings = plan.run(assembly.name, stop_time, step, tolerance, method,
+                                           progress, event_subsamples, "me")
+    tables = {plan.names[i]: Table.from_rows(["time"] + [f"{plan.names[i]}.{v}" for v in outputs],
+                                             rows)
+              for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
+    settings["wall_s"] = wallclock.perf_counter() - started
+    return Result(table, tables, settings)
+
+
+def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
+                        tolerance: float = 1e-10, record: list[str] | None = None,
+                        method: str = "DOPRI5",
+                        progress: Callable[[float], None] | None = None,
+                        event_subsamples: int = EVENT_SUBSAMPLES) -> Result:
+    """The assembly joined into one composite FMU, run by the engine as a single FMU.
+
+    Same result as :func:`assemblies.masters.monolithic.simulate_monolithic`; each
+    member's events are told apart by the composite's indicators that member owns.
+    """
+    _check(stop_time, step, tolerance, method)
+    started = wallclock.perf_counter()
+
+    def build():
+        comp, fmu = prepared_composite(assembly)
+        joined = comp.joined
+        if record is None:
+            columns = [(0, f"{name}.{v}") for name, vs in joined.outputs.items() for v in vs
+                       if f"{name}.{v}" in fmu.variables]
+        else:
+            for ref in record:
+                if ref not in fmu.variables:
+                    instance = ref.partition(".")[0]
+                    known = [n for n in fmu.variables if n.startswith(instance + ".")]
+                    raise AssemblyError(f"cannot record '{ref}': the joined model has no such "
+                                        f"variable; {instance} has: "
+                                        f"{', '.join(known) or '(no instance of that name)'}")
+            columns = [(0, ref) for ref in record]
+        groups, members = [], []
+        for name in assembly.components:
+            owned = [i for i, owner in enumerate(joined.owner_of_indicator) if owner == name]
+            if not owned:
+                continue
+            if owned != list(range(owned[0], owned[-1] + 1)):
+                raise AssemblyError(f"{name}: its indicators are not contiguous in the composite")
+            groups.append((0, owned[0], len(owned),
+                           [v for v in fmu.outputs if v.startswith(f"{name}.")]))
+            members.append(name)
+        keys = [f"{name}.{k}" for name, c in assembly.components.items()
+                for k in [*c.values, *c.starts]]
+        plan = _Plan([("assembly", fmu, keys)], [], columns, groups)
+        plan.members = members
+        return plan
+
+    key = ("monolithic", _structure_key(assembly), None if record is None else tuple(record))
+    plan = _plan(key, build)
+    with plan.lock:
+        plan.set_starts([{f"{name}.{k}": v for name, c in assembly.components.items()
+                          for k, v in {**c.values, **c.starts}.items()}])
+        table, events, settings = plan.run(assembly.name, stop_time, step, tolerance, method,
+                                           progress, event_subsamples, "monolithic")
+    table = {("time" if k == "time" else k.removeprefix("assembly.")): v for k, v in table.items()}
+    tables = {member: Table.from_rows(["time"] + outputs, rows)
+              for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)
+              if len(rows)}
+    settings["wall_s"] = wallclock.perf_counter() - started
+    return Result(table, tables, settings)

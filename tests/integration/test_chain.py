@@ -1,0 +1,54 @@
+"""The friction chain of the scaling benchmark (benchmarks/chain.py) does the physics it
+claims: its first slip and its sliding equilibrium against closed forms (the `me`
+master: all states in one integrator, events located to the solver tolerance)."""
+import numpy as np
+import pytest
+
+from assemblies.masters.me import simulate_me
+from benchmarks.chain import (chain_first_slip, chain_sliding_equilibrium, friction_chain,
+                              positions)
+
+N = 3
+# d = 2 damps the slowest sliding mode (K eigenvalue 4 sin^2(pi/14) = 0.198) at
+# d lambda / 2m = 0.198 /s: the 0.9 m transient is below 1e-6 m by t = 80 s
+PARAMS = dict(d=2.0, belt_speed=0.1)
+STOP, STEP, TOL = 80.0, 0.5, 1e-9
+
+
+@pytest.fixture(scope="module")
+def run():
+    asm = friction_chain(N, **PARAMS)
+    modes = [f"block{i}.mode" for i in range(1, N + 1)]
+    return asm, simulate_me(asm, STOP, STEP, TOL, record=positions(N) + modes)
+
+
+def test_block1_slips_first_when_its_wall_link_reaches_the_static_limit(run):
+    asm, res = run
+    t_slip = chain_first_slip(asm)  # (mu_s m g - d v) / (c v) = 2 s here
+    assert t_slip == pytest.approx(2.0)
+    first = {}
+    for i in range(1, N + 1):
+        ev = res.events.get(f"block{i}")
+        slips = [] if ev is None else [t for t, m in zip(ev["time"], ev[f"block{i}.mode"]) if m != 0]
+        first[i] = slips[0] if slips else np.inf
+    assert abs(first[1] - t_slip) < 1e-8  # an event time: located to the solver tolerance
+    # the wall pulls block1 back: it slides backward relative to the belt
+    ev = res.events["block1"]
+    assert ev["block1.mode"][list(ev["time"]).index(first[1])] == -1
+    # the links between riding blocks stay at rest until block1 moves
+    assert min(first[2], first[3]) > t_slip + 0.1
+
+
+def test_chain_settles_to_the_sliding_equilibrium(run):
+    asm, res = run
+    s_eq = chain_sliding_equilibrium(asm)  # K s = mu_k m g: 0.9, 1.5, 1.8 m
+    np.testing.assert_allclose(s_eq, [0.9, 1.5, 1.8], rtol=1e-12)
+    s_end = np.array([res[c][-1] for c in positions(N)])
+    np.testing.assert_allclose(s_end, s_eq, rtol=0, atol=1e-5)
+    # and every block slides backward on the belt at the end (kinetic friction holds it)
+    assert all(res[f"block{i}.mode"][-1] == -1 for i in range(1, N + 1))
+
+
+def test_bad_size_is_refused_with_its_name():
+    with pytest.raises(ValueError, match="n must be an integer >= 1"):
+        friction_chain(0)
