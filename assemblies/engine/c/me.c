@@ -138,7 +138,7 @@ static int set_point(me_master *M, double t, const double *x)
     for (i = 0; i < M->n; i++) {
         int nx = M->x_off[i + 1] - M->x_off[i];
         if (fmu_set_time(M->fmus[i], t)) return failed(M, i, "setting the time", t);
-        if (fmu_set_continuous_states(M->fmus[i], x + M->x_off[i], (size_t)nx))
+        if (nx && fmu_set_continuous_states(M->fmus[i], x + M->x_off[i], (size_t)nx))
             return failed(M, i, "setting the continuous states", t);
     }
     if (couple(M, t)) return -1;
@@ -155,7 +155,8 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
     M->stats->rhs_calls++;
     if (set_point(M, t, x)) return -1;
     for (i = 0; i < M->n; i++)
-        if (fmu_get_derivatives(M->fmus[i], dx + M->x_off[i],
+        if (M->x_off[i + 1] > M->x_off[i] &&
+            fmu_get_derivatives(M->fmus[i], dx + M->x_off[i],
                                 (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the state derivatives", t);
     return 0;
@@ -188,7 +189,8 @@ static int indicators_at(me_master *M, double t, const double *x, double *z)
     int i;
     if (set_point(M, t, x)) return -1;
     for (i = 0; i < M->n; i++)
-        if (fmu_get_event_indicators(M->fmus[i], z + M->z_off[i],
+        if (M->z_off[i + 1] > M->z_off[i] &&
+            fmu_get_event_indicators(M->fmus[i], z + M->z_off[i],
                                      (size_t)(M->z_off[i + 1] - M->z_off[i])))
             return failed(M, i, "getting the event indicators", t);
     return 0;
@@ -465,8 +467,9 @@ static int integrate(me_master *M)
        constant and the steps grow without limit, but an indicator can still move with
        time through another FMU's outputs (a shaken table's acceleration): a 0.1 s excursion
        of the static margin inside a 3 s step slips between the interior samples. Output
-       points still come from the dense output; no step is made to end on one. */
-    const double h_max = h_initial;
+       points still come from the dense output; no step is made to end on one. Without
+       indicators there is nothing to miss, and the solver steps freely. */
+    const double h_max = M->n_z > 0 ? h_initial : INFINITY;
     eng_progress progress;
 
     eng_progress_start(&progress, s->progress, s->progress_ctx);
