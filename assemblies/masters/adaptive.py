@@ -11,9 +11,18 @@ and would say nothing about the error that persists.
 The step is accepted when the estimate is at most ``tol * h / horizon`` (error
 per unit step): the local errors then add up to at most about ``tol`` over the
 horizon, which is what makes the *global* error, the one a user compares with a
-reference, follow the requested tolerance. The next step comes from the
-standard controller h * min(4, max(0.2, 0.9 (allowed / estimate)^(1/p))) (the
-exponent is 1/p, not 1/(p+1), because the allowed error itself grows with h).
+reference, follow the requested tolerance. To that allowance is added the noise
+of the FMUs' own solvers (their tolerance, relative to each state): the two runs
+of step doubling cannot agree better than that whatever the step, and without the
+floor the step would shrink without end where the coupling error is smaller. The
+next step comes from the standard controller
+h * min(4, max(0.2, 0.9 (allowed / estimate)^(1/p))) (the exponent is 1/p, not
+1/(p+1), because the allowed error itself grows with h). A rejected step shrinks
+by what the estimate says, at least by 0.9 (halving regardless wastes steps where
+the error is close to the noise floor), and the step after a rejection does not
+grow (Hairer's rule against reject/accept cycles).
+
+This is the compiled engine's controller (``judge`` in assemblies/engine/c/cosim.c).
 """
 from __future__ import annotations
 
@@ -30,6 +39,7 @@ class StepController:
         self.h_min = 1e-12 * horizon
         self.accepted = 0
         self.rejected = 0
+        self.rejected_last = False  # the last judged step was rejected
         self.max_ratio = 0.0  # largest accepted estimate / allowed, a self-check for reports
 
     def estimate(self, coarse: np.ndarray, fine: np.ndarray) -> float:
@@ -38,12 +48,18 @@ class StepController:
             return 0.0
         return float(np.max(np.abs(fine - coarse))) / (2 ** self.order - 1)
 
+    @staticmethod
+    def noise(fine: np.ndarray, tolerance: float) -> float:
+        """What FMU solvers with relative tolerance `tolerance` leave in the states."""
+        return float(np.max(tolerance * (1.0 + np.abs(fine)))) if fine.size else 0.0
+
     def allowed(self, h: float) -> float:
         return self.tol * h / self.horizon
 
-    def judge(self, error: float, h: float) -> tuple[bool, float]:
-        """(accept?, next step) for a step of `h` with estimated error `error`."""
-        allowed = self.allowed(h)
+    def judge(self, error: float, h: float, noise: float = 0.0) -> tuple[bool, float]:
+        """(accept?, next step) for a step of `h` with estimated error `error`, of
+        which `noise` (see :meth:`noise`) no step size can remove."""
+        allowed = self.allowed(h) + noise
         ok = error <= allowed
         if ok:
             self.accepted += 1
@@ -52,7 +68,10 @@ class StepController:
             self.rejected += 1
         factor = 4.0 if error == 0 else min(4.0, max(0.2, 0.9 * (allowed / error) ** (1 / self.order)))
         if not ok:
-            factor = min(factor, 0.5)  # a rejected step must shrink
+            factor = min(factor, 0.9)  # a rejected step must shrink
+        elif self.rejected_last:
+            factor = min(factor, 1.0)  # and the one after it must not grow
+        self.rejected_last = not ok
         return ok, min(self.h_max, h * factor)
 
 

@@ -10,12 +10,18 @@ signals) are held constant by the FMU, and the master chooses that constant from
 source's past values (:mod:`assemblies.extrapolation`). At every communication point
 the inputs are made consistent with the outputs, algebraic loops between
 direct-feedthrough outputs included (:mod:`assemblies.loops`). Events that an FMU
-locates inside a step are recorded through FMI 3 intermediate update.
+locates inside a step are recorded through FMI 3 intermediate update; with event
+synchronisation (on by default with adaptive steps) a step is retaken to end at the
+first such event, and an event an FMU handles at the start of a step is moved back to
+where the coupled system crossed (:mod:`assemblies.masters.events`). The stepping is
+the compiled engine's (assemblies/engine/c/cosim.c), so that the two give the same
+results.
 """
 from __future__ import annotations
 
 import math
 import time as wallclock
+from dataclasses import dataclass
 from typing import Callable
 
 from fmpy import extract, read_model_description
@@ -31,6 +37,8 @@ from ..assembly import Assembly, AssemblyError
 from ..experiment import check_cosim_settings, check_experiment
 from ..result import Result, Table
 from .adaptive import StepController
+from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
+                     locate_start_event, probe_step)
 from .extrapolation import step_mean
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
@@ -67,6 +75,7 @@ class _Instance:
         path = build_fmu(defaults)
         md = read_model_description(path)
         self.variables = {v.name: v for v in md.modelVariables}
+        self.can_get_set_state = bool(md.coSimulation.canGetAndSetFMUstate)
         self.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
         self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
         # output -> the inputs it depends on (direct feedthrough: algebraic loops, and the
@@ -76,7 +85,14 @@ class _Instance:
                         for u in md.outputs}
         self.messages: list[str] = []
         self.event_rows: list[list[float]] = []
+        # what event synchronisation needs to know about the doStep in progress
+        self.step_start = 0.0  # its currentCommunicationPoint
+        self.clear_event_flags()
         return path, md
+
+    def clear_event_flags(self) -> None:
+        self.event_at_start = False  # an event handled at the step's start (inputs moved)
+        self.event_in_step = math.inf  # the earliest event located inside the step
 
     # callbacks from C: keep them short and never raise
     def _log(self, env, status, category, message):
@@ -86,11 +102,25 @@ class _Instance:
     def _intermediate_update(self, env, t, set_requested, get_allowed, step_finished,
                              can_return_early, early_return_requested, last_successful_time):
         early_return_requested[0] = False
-        if get_allowed and not step_finished:  # an event inside the step
-            try:
-                self.event_rows.append([t] + self.get(self.outputs))
-            except Exception as exc:  # pragma: no cover - reported after the step
-                self.messages.append(f"recording the event at t = {t}: {exc}")
+        if not get_allowed or step_finished:
+            return
+        # an event: at the step's start (the inputs set at the communication point
+        # crossed a switching condition) or located inside the step
+        if t <= self.step_start + 1e-12 * max(1.0, abs(self.step_start)):
+            self.event_at_start = True
+        elif t < self.event_in_step:
+            self.event_in_step = t
+        try:
+            self.event_rows.append([t] + self.get(self.outputs))
+        except Exception as exc:  # pragma: no cover - reported after the step
+            self.messages.append(f"recording the event at t = {t}: {exc}")
+
+    def do_step(self, t: float, h: float) -> tuple[bool, float]:
+        """fmi3DoStep from `t` over `h`: (the model asks to terminate, time reached)."""
+        self.step_start = t
+        # a master that rolls back may set a state from before t, so this is always False
+        _, stop, _, reached = self.call(f"doStep at t = {t:g}", self.fmu.doStep, t, h, False)
+        return stop, reached
 
     def call(self, what: str, fn, *args):
         try:
@@ -149,6 +179,16 @@ class _Instance:
             pass
 
 
+@dataclass
+class _Snapshot:
+    """Everything a rollback restores: the FMUs' states and the master's own memory."""
+    states: dict  # instance -> FMU state
+    history: dict[int, list[tuple[float, float]]]
+    n_events: dict[str, int]  # event rows each instance had
+    terminated: dict | None
+    t: float
+
+
 class _Master:
     """The coupling state of a running co-simulation: consistency, extrapolation, rollback."""
 
@@ -169,7 +209,11 @@ class _Master:
                      and instances[c.target[0]].vr(c.target[1]).type == "Float64"}
         self.history: dict[int, list[tuple[float, float]]] = {i: [] for i in self.held}
         self.terminated = None
+        # this step holds the sources' values (no extrapolation): set by event
+        # synchronisation when an extrapolated input would fire an event too early
+        self.hold_raw = False
         self.do_steps = 0
+        self.events_located = 0
         self.loop_iterations = 0
         self.loop_residual = 0.0
 
@@ -211,15 +255,18 @@ class _Master:
     def _do_step(self, name: str, t: float, h: float) -> None:
         inst = self.instances[name]
         self.do_steps += 1
-        _, stop, _, reached = inst.call(f"doStep at t = {t:g}", inst.fmu.doStep, t, h)
+        stop, reached = inst.do_step(t, h)
         if stop and self.terminated is None:  # the model says it cannot go on (why: in its log)
             self.terminated = {"instance": name, "time": reached,
                                "message": inst.messages[-1] if inst.messages else ""}
 
     def step(self, t: float, h: float) -> None:
         """One communication step from `t` (inputs consistent at t) to t + h."""
+        extrapolate = self.extrapolation and not self.hold_raw
+        for inst in self.instances.values():
+            inst.clear_event_flags()
         if self.scheme == "jacobi":
-            if self.extrapolation:
+            if extrapolate:
                 for i in self.held:
                     c = self.couplings[i]
                     self._set(*c.target, self._held_value(i, t, h, t, self.history[i][-1][1]))
@@ -232,12 +279,12 @@ class _Master:
                     if c.target[0] != name:
                         continue
                     ahead = c.source[0] in done
-                    if i in self.in_loop and not (i in self.held and self.extrapolation):
+                    if i in self.in_loop and not (i in self.held and extrapolate):
                         continue  # keeps the loop's consistent value from t
                     now = c.gain * self._get(*c.source) if (ahead or i not in self.in_loop) \
                         else self.history[i][-1][1]
                     value = self._held_value(i, t, h, t + h if ahead else t, now) \
-                        if i in self.held else now
+                        if i in self.held and extrapolate else now
                     self._set(*c.target, value)
                 self._do_step(name, t, h)
                 done.add(name)
@@ -247,30 +294,32 @@ class _Master:
     def state_vector(self) -> np.ndarray:
         return np.array([v for inst in self.instances.values() for v in inst.get(inst.states)])
 
-    # --- rollback for the adaptive step -------------------------------------------
-    def save(self):
-        return ({n: i.save() for n, i in self.instances.items()},
-                {k: list(v) for k, v in self.history.items()},
-                {n: len(i.event_rows) for n, i in self.instances.items()}, self.terminated)
+    # --- rollback: adaptive steps and event synchronisation --------------------------
+    def save(self, t: float) -> _Snapshot:
+        return _Snapshot({n: i.save() for n, i in self.instances.items()},
+                         {k: list(v) for k, v in self.history.items()},
+                         {n: len(i.event_rows) for n, i in self.instances.items()},
+                         self.terminated, t)
 
-    def restore(self, snap) -> None:
-        states, history, n_events, terminated = snap
+    def restore(self, snap: _Snapshot) -> None:
         for name, inst in self.instances.items():
-            inst.restore(states[name])
-            del inst.event_rows[n_events[name]:]  # events of a step that did not count
-        self.history = {k: list(v) for k, v in history.items()}
-        self.terminated = terminated
+            inst.restore(snap.states[name])
+            del inst.event_rows[snap.n_events[name]:]  # events of a step that did not count
+        self.history = {k: list(v) for k, v in snap.history.items()}
+        self.terminated = snap.terminated
 
-    def discard(self, snap) -> None:
-        for name, inst in self.instances.items():
-            inst.discard(snap[0][name])
+    def discard(self, snap: _Snapshot | None) -> None:
+        if snap is not None:
+            for name, inst in self.instances.items():
+                inst.discard(snap.states[name])
 
 
 def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-8,
                record: list[str] | None = None, scheme: str = "jacobi",
                progress: Callable[[float], None] | None = None, extrapolation: int = 0,
                adaptive: bool = False, tol: float = 1e-4, loop_tolerance: float = 1e-10,
-               max_loop_iterations: int = 20, newton: bool = True) -> Result:
+               max_loop_iterations: int = 20, newton: bool = True,
+               event_sync: bool | None = None) -> Result:
     """Co-simulate `assembly` from 0 to `stop_time`.
 
     `step` is the communication step; with ``adaptive=True`` it is the output interval
@@ -280,16 +329,27 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     order of the polynomial whose step mean is held on inputs the FMUs hold constant
     (:mod:`assemblies.extrapolation`). Algebraic loops are solved at every
     communication point to `loop_tolerance` in at most `max_loop_iterations` Newton
-    iterations (plain fixed-point iteration with ``newton=False``).
+    iterations (plain fixed-point iteration with ``newton=False``). `event_sync`
+    (None: on exactly when `adaptive`, as in the compiled engine): steps end at the
+    events the FMUs locate, and events the FMUs handle at a communication point are
+    moved back to where the coupled system crossed (to ``EVENT_TOL``,
+    :mod:`assemblies.masters.events`). Adaptive steps and event synchronisation roll
+    back through FMU state, so every FMU must be able to get and set its state.
     """
     check_experiment(stop_time, step, tolerance)
     check_cosim_settings(scheme, extrapolation, adaptive, tol)
+    event_sync = bool(adaptive) if event_sync is None else bool(event_sync)
     couplings = assembly.couplings()
     instances: dict[str, _Instance] = {}
     started = wallclock.perf_counter()
     try:
         for name, comp in assembly.components.items():
             instances[name] = _Instance(name, comp, tolerance)
+            if (adaptive or event_sync) and not instances[name].can_get_set_state:
+                raise AssemblyError(
+                    f"{'adaptive' if adaptive else 'event-synchronised'} co-simulation rolls "
+                    f"steps back, but FMU instance '{name}' cannot get and set its state "
+                    "(canGetAndSetFMUState is false); use a fixed step with event_sync=False")
         columns = _record_columns(instances, record)
         master = _Master(assembly.name, instances, couplings, assembly.order(), scheme,
                          extrapolation, loop_tolerance, max_loop_iterations, newton)
@@ -310,25 +370,13 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         for inst in instances.values():
             inst.call("exit initialization", inst.fmu.exitInitializationMode)
         master.consistent(0.0)
-        rows = [sample(0.0)]
         n_out = max(1, math.ceil(stop_time / step - 1e-9))
         out_times = [min((k + 1) * step, stop_time) for k in range(n_out)]
         out_times[-1] = stop_time
-        stats = {"steps": 0, "rejected": 0}
-        if not adaptive:
-            t = 0.0
-            for t_next in out_times:
-                master.step(t, t_next - t)
-                stats["steps"] += 1
-                rows.append(sample(t_next))
-                if progress is not None:
-                    progress(t_next)
-                t = t_next
-                if master.terminated is not None:
-                    break
-        else:
-            stats.update(_adaptive(master, out_times, step, tol, extrapolation, rows, sample,
-                                   progress))
+        stepper = _Stepper(master, out_times, step, tolerance, adaptive=bool(adaptive), tol=tol,
+                           extrapolation=extrapolation, event_sync=event_sync, sample=sample,
+                           progress=progress)
+        rows = stepper.run()
         names = ["time"] + [f"{i}.{v}" for i, v in columns]
         table = Table.from_rows(names, rows)
         events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in inst.outputs],
@@ -336,8 +384,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                   for name, inst in instances.items() if inst.event_rows}
         settings = {"stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": scheme,
                     "extrapolation": extrapolation, "adaptive": bool(adaptive),
-                    "wall_s": wallclock.perf_counter() - started,
-                    "terminated": master.terminated, "do_steps": master.do_steps, **stats,
+                    "event_sync": event_sync, "wall_s": wallclock.perf_counter() - started,
+                    "terminated": master.terminated, "do_steps": master.do_steps,
+                    **stepper.stats(),
                     "loops": [" -> ".join(".".join(couplings[i].source) for i in g)
                               for g in master.loops],
                     "loop_iterations": master.loop_iterations,
@@ -350,49 +399,209 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             inst.free()
 
 
-def _adaptive(master: _Master, out_times, step, tol, extrapolation, rows, sample, progress):
-    """Step doubling with rollback through FMU state; rows are appended at `out_times`."""
-    # global order of the coupling: 1 with a zero-order hold, 2 with a step-mean
-    # extrapolation (see assemblies.extrapolation for why not 3 with quadratic)
-    ctrl = StepController(tol, 1 if extrapolation == 0 else 2, out_times[-1], step)
-    t, h = 0.0, step / 4
-    h_used = []
-    for target in out_times:
-        while t < target - 1e-12 * max(1.0, target):
-            if target - (t + h) < 0.25 * h:  # no sliver before an output point
-                h = target - t
-            snap = master.save()
-            try:
-                master.step(t, h)
-                coarse = master.state_vector()
-                master.restore(snap)
-                master.step(t, h / 2)
-                if master.terminated is None:
-                    master.step(t + h / 2, h / 2)
-                if master.terminated is not None:  # the model ended the run: keep what it did
-                    t = master.terminated["time"]
-                    break
-                error = ctrl.estimate(coarse, master.state_vector())
-                ok, h_next = ctrl.judge(error, h)
-                if ok:
-                    t = target if abs(target - (t + h)) < 1e-12 * max(1.0, target) else t + h
-                    h_used.append(h)
-                else:
-                    master.restore(snap)
-            finally:
-                master.discard(snap)
-            h = h_next
-            if h < ctrl.h_min:
-                raise SimulationError(f"adaptive step fell below {ctrl.h_min:.3g} s at t = {t:g} "
-                                      f"(tol {tol:g} cannot be met)")
-        rows.append(sample(t))
-        if progress is not None:
-            progress(t)
-        if master.terminated is not None:
-            break
-    return {"steps": ctrl.accepted, "rejected": ctrl.rejected,
-            "h_min": min(h_used, default=math.nan), "h_max": max(h_used, default=math.nan),
-            "error_ratio_max": ctrl.max_ratio}
+def _close(a: float, b: float) -> bool:
+    """Times equal to round-off (relative 1e-12, absolute below 1 s)."""
+    return abs(a - b) < 1e-12 * max(1.0, abs(b))
+
+
+class _Stepper:
+    """The run after initialisation: communication steps to the output times, a row at
+    each. Steps are fixed (the interval to the next output time) or adaptive (step
+    doubling, :mod:`assemblies.masters.adaptive`); with event synchronisation a step
+    ends at the first event an FMU locates in it, and an event an FMU handles at the
+    start of a step is moved back into the step before it
+    (:mod:`assemblies.masters.events`). Step by step the compiled engine's ``run``
+    (assemblies/engine/c/cosim.c), so that the two masters give the same results.
+    """
+
+    def __init__(self, master: _Master, out_times: list[float], step: float,
+                 tolerance: float, *, adaptive: bool, tol: float, extrapolation: int,
+                 event_sync: bool, sample, progress):
+        self.master, self.out_times, self.tolerance = master, out_times, tolerance
+        self.adaptive, self.event_sync, self.extrapolation = adaptive, event_sync, extrapolation
+        self.rollback = adaptive or event_sync
+        self.sample, self.progress = sample, progress
+        # global order of the coupling: 1 with a zero-order hold, 2 with a step-mean
+        # extrapolation (see assemblies.extrapolation for why not 3 with quadratic)
+        self.ctrl = StepController(tol, 1 if extrapolation == 0 else 2, out_times[-1], step)
+        self.t = 0.0
+        self.h = step / 4 if adaptive else step  # the next adaptive step
+        self.rows = [sample(0.0)]
+        self.snap: _Snapshot | None = None  # the state at the start of the step in progress
+        self.prev: _Snapshot | None = None  # ... of the step before it (None: no step yet)
+        self.h_prev = 0.0  # the length of the step before
+        # the time a start event was last moved back to: the event fires at the start of
+        # the next step by design, and is not to be moved back again
+        self.located_at = -math.inf
+        self.steps = 0
+        self.events_synchronised = 0
+        self.h_min, self.h_max = math.inf, 0.0
+
+    def run(self) -> list[list[float]]:
+        """Step to the last output time (or where the model terminated); the rows."""
+        m = self.master
+        try:
+            while len(self.rows) <= len(self.out_times):
+                target = self.out_times[len(self.rows) - 1]
+                if _close(self.t, target) or self.t > target or m.terminated is not None:
+                    self.rows.append(self.sample(self.t if m.terminated is not None else target))
+                    if self.progress is not None:
+                        self.progress(self.t)
+                    if m.terminated is not None:
+                        break
+                    continue
+                self._step_towards(target)
+        finally:
+            m.discard(self.snap)
+            m.discard(self.prev)
+        return self.rows
+
+    def stats(self) -> dict:
+        stats = {"steps": self.steps, "rejected": self.ctrl.rejected,
+                 "events_synchronised": self.events_synchronised,
+                 "events_located": self.master.events_located}
+        if self.adaptive:
+            none = self.h_max == 0.0
+            stats.update(h_min=math.nan if none else self.h_min,
+                         h_max=math.nan if none else self.h_max,
+                         error_ratio_max=self.ctrl.max_ratio)
+        return stats
+
+    def _step_towards(self, target: float) -> None:
+        """One communication step from self.t towards `target`: taken, and kept or
+        rolled back (rejected, or a start event moved the run back)."""
+        m = self.master
+        h_try = self._trial_length(target)
+        if self.rollback:
+            m.discard(self.snap)
+            self.snap = m.save(self.t)
+        h_try = self._step_to_first_event(h_try)
+        if h_try is None:  # the run went back to a start event inside the previous step
+            m.hold_raw = False
+            return
+        if self.adaptive:
+            ok, h_try = self._judge(h_try)
+            if m.terminated is not None:  # the model ended the run: keep what it did
+                self.t = m.terminated["time"]
+                return
+        else:
+            ok = True
+            self.steps += 1
+        m.hold_raw = False
+        if m.terminated is not None:  # a fixed step's row keeps its time
+            self.t = target
+        elif ok:
+            self._advance(h_try, target)
+
+    def _trial_length(self, target: float) -> float:
+        if not self.adaptive:
+            return target - self.t
+        h_try = self.h
+        # no sliver before an output point: stretch the step up to 25 % to reach it,
+        # unless the step was just rejected at that length
+        if (self.t + h_try > target
+                or (target - (self.t + h_try) < 0.25 * h_try and not self.ctrl.rejected_last)):
+            h_try = target - self.t
+        return h_try
+
+    def _step_to_first_event(self, h_try: float) -> float | None:
+        """The step from self.t, shortened to end at the first event inside it; its
+        length, or None where an event at its start was moved back into the step
+        before (self.t is then that event's time)."""
+        m, t = self.master, self.t
+        shortened = False
+        while True:
+            m.step(t, h_try)
+            if not self.event_sync:
+                return h_try
+            which = events_at_start(m)
+            if which and t > self.located_at:
+                if self._start_event(which):
+                    return None
+                continue  # the step again, from the state restored there
+            te = earliest_event_in_step(m)
+            if not shortened and te - t > EVENT_TOL and te < t + h_try:
+                # the other FMUs must see the event's outputs from the event on, not
+                # from the end of the step: retake it to end just past the event (by a
+                # margin, so that the FMU that located it handles it inside the step)
+                margin = min(EVENT_TOL, 0.5 * (t + h_try - te))
+                m.restore(self.snap)
+                h_try = te - t + margin
+                shortened = True
+                self.events_synchronised += 1
+                continue
+            return h_try
+
+    def _start_event(self, which: set[str]) -> bool:
+        """An event fired at the start of the step from self.t, in the instances
+        `which`: move it back to where it first fires in the previous step (True: the
+        run is there now), or restore the step's start to retake it (False)."""
+        m, t = self.master, self.t
+        if self.extrapolation and not m.hold_raw:
+            # an extrapolated held input runs ahead of its source (it is the mean over
+            # the coming step): if the sources' own values at t do not fire the event,
+            # it is premature, and the step is redone holding them
+            m.restore(self.snap)
+            if not fires_at_start(m, which, t, probe_step(t)):
+                m.hold_raw = True
+                return False
+        if self.prev is None:  # at the start of the run: nothing to go back into
+            self.located_at = t
+            m.restore(self.snap)
+            return False
+        t_event = locate_start_event(m, self.prev, self.h_prev, which)
+        self.located_at = self.t = t_event
+        self.h_prev = t_event - self.prev.t
+        # rows sampled after the event's new time are sampled again
+        k = len(self.rows) - 1
+        while k > 0 and self.out_times[k - 1] > t_event + 1e-12 * max(1.0, abs(t_event)):
+            k -= 1
+        del self.rows[k + 1:]
+        return True
+
+    def _judge(self, h_try: float) -> tuple[bool, float]:
+        """Step doubling on the step of `h_try` just taken: redone as two halves, kept
+        (the halves) or rolled back; (accepted?, the length kept). Sets the next step."""
+        m, t, ctrl = self.master, self.t, self.ctrl
+        coarse = m.state_vector()
+        m.restore(self.snap)
+        m.step(t, h_try / 2)
+        if m.terminated is None:
+            m.step(t + h_try / 2, h_try / 2)
+        if m.terminated is not None:
+            return False, h_try
+        if self.event_sync and events_at_start(m) and t + h_try / 2 > self.located_at:
+            # an event fired where the two half steps meet: the coupled system crossed
+            # inside the first half. Keep the first half alone (the error of the whole
+            # step is the event's, not the coupling's); the next step fires the event
+            # at its start and moves it back there.
+            m.restore(self.snap)
+            m.step(t, h_try / 2)
+            self.h = h_try / 2
+            self.steps += 1
+            return True, h_try / 2
+        fine = m.state_vector()
+        ok, self.h = ctrl.judge(ctrl.estimate(coarse, fine), h_try,
+                                ctrl.noise(fine, self.tolerance))
+        if ok:
+            self.steps += 1
+        else:
+            m.restore(self.snap)
+        if self.h < ctrl.h_min:
+            raise SimulationError(f"adaptive step fell below {ctrl.h_min:.3g} s at t = {t:g} "
+                                  f"(tol {ctrl.tol:g} cannot be met)")
+        return ok, h_try
+
+    def _advance(self, h_try: float, target: float) -> None:
+        """The step of `h_try` from self.t is kept."""
+        self.h_min, self.h_max = min(self.h_min, h_try), max(self.h_max, h_try)
+        self.t = target if _close(self.t + h_try, target) else self.t + h_try
+        if self.rollback:
+            # the step's start becomes the previous step's: where a start event in the
+            # next step is looked for
+            self.master.discard(self.prev)
+            self.prev, self.snap = self.snap, None
+            self.h_prev = h_try
 
 
 def _record_columns(instances: dict[str, _Instance], record: list[str] | None):
