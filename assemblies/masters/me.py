@@ -24,6 +24,7 @@ from fmpy.fmi3 import FMU3Model
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment
+from ..foreign import check_own_only
 from ..result import Result, Table
 from .cosim import SimulationError, _Instance, _record_columns
 from .hybrid import METHODS, EventOutcome, IntegrationError, integrate
@@ -75,17 +76,20 @@ def coupling_order(couplings, instances) -> list:
     """The couplings sorted so that each is evaluated after every coupling its source needs.
 
     Coupling c2 needs c1 when c1 sets an input of c2's source instance that c2's source
-    output depends on (direct feedthrough). A cycle is an algebraic loop.
+    output depends on (direct feedthrough). A cycle is an algebraic loop. The order is by
+    dependency level (outputs that need no coupled input first), and within a level by
+    source instance: a master can then read a whole level before setting any of it, and
+    each FMU computes its outputs once per level rather than once per read.
     """
     needs = {i: [j for j, c1 in enumerate(couplings)
                  if c1.target[0] == c2.source[0]
                  and c1.target[1] in instances[c2.source[0]].depends.get(
                      c2.source[1], set(instances[c2.source[0]].inputs))]
              for i, c2 in enumerate(couplings)}
-    ordered, done, active = [], set(), []
+    level, active = {}, []
 
     def visit(i):
-        if i in done:
+        if i in level:
             return
         if i in active:
             loop = active[active.index(i):] + [i]
@@ -96,12 +100,16 @@ def coupling_order(couplings, instances) -> list:
         for j in needs[i]:
             visit(j)
         active.pop()
-        done.add(i)
-        ordered.append(couplings[i])
+        level[i] = 1 + max((level[j] for j in needs[i]), default=-1)
 
     for i in range(len(couplings)):
         visit(i)
-    return ordered
+    first_seen = {}
+    for c in couplings:
+        first_seen.setdefault(c.source[0], len(first_seen))
+    order = sorted(range(len(couplings)),
+                   key=lambda i: (level[i], first_seen[couplings[i].source[0]], i))
+    return [couplings[i] for i in order]
 
 
 class _CoupledSystem:
@@ -206,6 +214,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                 progress: Callable[[float], None] | None = None) -> Result:
     """Integrate `assembly` as Model Exchange FMUs; the table holds every `step` seconds."""
     check_experiment(stop_time, step, tolerance, "output step")
+    check_own_only(assembly, "simulate_me")
     if method not in METHODS:
         raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
     couplings = assembly.couplings()  # resolves the causality profiles

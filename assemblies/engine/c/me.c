@@ -39,7 +39,9 @@ typedef struct {
     double *values, *values_new; /* coupling values, to see the event iteration settle */
     double *sent;         /* the value each coupling last set on its target... */
     int sent_valid;       /* ...valid while nothing else set the inputs */
+    int *segment_end;     /* couplings k .. segment_end[k] are read before any is set */
     int *run_end;         /* couplings k .. run_end[k] read Float64 outputs of one source */
+    int *write_order;     /* a segment's couplings by target, so one call sets a target's inputs */
     uint32_t *source_vr;  /* source value references, in coupling order */
     double *read;         /* source values read in one call per run */
     uint32_t *pending_vr; /* inputs of one target waiting to be set in one call */
@@ -90,24 +92,32 @@ static int flush(me_master *M, int target, int *n_pending, double t)
     return 0;
 }
 
-/* The couplings in continuous time, cheaply: the outputs of one source are read in
-   one call, the changed inputs of one target are set in one call, and an input whose
-   value did not change since it was last set is not set again (an FMU keeps a value
-   until it is set: exact, and the FMU keeps what it computed from it). */
+/* The couplings in continuous time, cheaply. They come in segments (see allocate):
+   within one, no coupling reads an instance that another one in it sets, so all of a
+   segment's outputs are read first and its inputs set afterwards. Each FMU thus
+   evaluates its outputs once per segment instead of once per read after a set (an FMU
+   drops what it computed whenever an input changes). The outputs of one source are
+   read in one call, the changed inputs of one target are set in one call, and an input
+   whose value did not change since it was last set is not set again (an FMU keeps a
+   value until it is set: exact, and the FMU keeps what it computed from it). */
 static int couple(me_master *M, double t)
 {
     const eng_coupling *c = M->spec->couplings;
-    int k, j, nc = M->spec->n_couplings;
-    for (k = 0; k < nc; k = M->run_end[k] + 1) {
-        fmu_t *source = M->fmus[c[k].source.instance];
-        int target = -1, n_pending = 0;
-        int rc = c[k].source.is_int
-                     ? eng_get_value(source, c[k].source.vr, 1, &M->read[k])
-                     : fmu_get_float64(source, M->source_vr + k,
-                                       (size_t)(M->run_end[k] - k + 1), M->read + k);
-        if (rc) return failed(M, c[k].source.instance, "reading a coupled output", t);
-        for (j = k; j <= M->run_end[k]; j++) {
-            double v = c[j].gain * M->read[j];
+    int k, j, w, nc = M->spec->n_couplings;
+    for (k = 0; k < nc; k = M->segment_end[k] + 1) {
+        int end = M->segment_end[k], target = -1, n_pending = 0;
+        for (j = k; j <= end; j = M->run_end[j] + 1) {
+            fmu_t *source = M->fmus[c[j].source.instance];
+            int rc = c[j].source.is_int
+                         ? eng_get_value(source, c[j].source.vr, 1, &M->read[j])
+                         : fmu_get_float64(source, M->source_vr + j,
+                                           (size_t)(M->run_end[j] - j + 1), M->read + j);
+            if (rc) return failed(M, c[j].source.instance, "reading a coupled output", t);
+        }
+        for (w = k; w <= end; w++) {
+            double v;
+            j = M->write_order[w];
+            v = c[j].gain * M->read[j];
             if (M->sent_valid && v == M->sent[j]) continue;
             if (c[j].target.instance != target && flush(M, target, &n_pending, t)) return -1;
             target = c[j].target.instance;
@@ -532,6 +542,42 @@ static int integrate(me_master *M)
 
 static double *zeros(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
 
+/* Segments, runs and write order of the couplings (see couple). The couplings come in
+   dependency order (a coupling after those that set the inputs its source output
+   depends on); a segment ends before a coupling whose source instance a coupling of
+   the segment sets, so reading a whole segment before setting it reads the same values
+   as going one by one. Python orders them by dependency level, which makes segments
+   long. */
+static int plan_couplings(me_master *M)
+{
+    const eng_coupling *c = M->spec->couplings;
+    int nc = M->spec->n_couplings, i, j, start = 0;
+    char *targeted = calloc((size_t)M->n + 1, 1);
+    if (!targeted) return -1;
+    for (i = 0; i <= nc; i++) {
+        if (i == nc || targeted[c[i].source.instance]) { /* close the segment start .. i-1 */
+            int w = start, inst;
+            for (j = start; j < i; j++) M->segment_end[j] = i - 1;
+            for (inst = 0; inst < M->n; inst++) /* stable: by target instance */
+                for (j = start; j < i; j++)
+                    if (c[j].target.instance == inst) M->write_order[w++] = j;
+            memset(targeted, 0, (size_t)M->n);
+            start = i;
+        }
+        if (i < nc) targeted[c[i].target.instance] = 1;
+    }
+    free(targeted);
+    for (i = nc - 1; i >= 0; i--) {
+        M->source_vr[i] = c[i].source.vr;
+        M->run_end[i] = i;
+        /* one read for a run of one source's Float64 outputs within one segment */
+        if (i + 1 < nc && M->segment_end[i + 1] == M->segment_end[i] && !c[i].source.is_int &&
+            !c[i + 1].source.is_int && c[i + 1].source.instance == c[i].source.instance)
+            M->run_end[i] = M->run_end[i + 1];
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -564,24 +610,16 @@ static int allocate(me_master *M)
     M->values_new = zeros(s->n_couplings);
     M->sent = zeros(s->n_couplings);
     M->read = zeros(s->n_couplings);
+    M->segment_end = calloc((size_t)s->n_couplings + 1, sizeof(int));
     M->run_end = calloc((size_t)s->n_couplings + 1, sizeof(int));
+    M->write_order = calloc((size_t)s->n_couplings + 1, sizeof(int));
     M->source_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_value = zeros(s->n_couplings);
-    if (!M->sent || !M->read || !M->run_end || !M->source_vr || !M->pending_vr ||
-        !M->pending_value)
+    if (!M->sent || !M->read || !M->segment_end || !M->run_end || !M->write_order ||
+        !M->source_vr || !M->pending_vr || !M->pending_value)
         return -1;
-    for (i = s->n_couplings - 1; i >= 0; i--) {
-        const eng_coupling *c = s->couplings;
-        M->source_vr[i] = c[i].source.vr;
-        M->run_end[i] = i;
-        /* one read for the run is right only if no coupling in it feeds its source */
-        if (i + 1 < s->n_couplings && !c[i].source.is_int && !c[i + 1].source.is_int &&
-            c[i + 1].source.instance == c[i].source.instance &&
-            c[i].target.instance != c[i].source.instance &&
-            c[i + 1].target.instance != c[i + 1].source.instance)
-            M->run_end[i] = M->run_end[i + 1];
-    }
+    if (plan_couplings(M)) return -1;
     M->row = zeros(width);
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
@@ -602,7 +640,8 @@ static void release(me_master *M)
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->x_before);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
-    free(M->sent); free(M->read); free(M->run_end); free(M->source_vr);
+    free(M->sent); free(M->read); free(M->segment_end); free(M->run_end);
+    free(M->write_order); free(M->source_vr);
     free(M->pending_vr); free(M->pending_value);
 }
 
