@@ -6,12 +6,13 @@ masters of the same names, the reference the engine is tested against.
 """
 from .assembly import Assembly, AssemblyError
 from .engine import EngineError, cosimulate, simulate_me, simulate_monolithic
+from .foreign import FMU, FmuError
 from .masters.cosim import SimulationError
 from .masters.monolithic import composite
 from .result import Result, Table
 from .run import run_scene, run_scene_full
 from .scenes import SCENES, scene
 
-__all__ = ["Assembly", "AssemblyError", "EngineError", "Result", "SCENES", "SimulationError",
-           "Table", "composite", "cosimulate", "run_scene", "run_scene_full", "scene",
-           "simulate_me", "simulate_monolithic"]
+__all__ = ["Assembly", "AssemblyError", "EngineError", "FMU", "FmuError", "Result", "SCENES",
+           "SimulationError", "Table", "composite", "cosimulate", "run_scene", "run_scene_full",
+           "scene", "simulate_me", "simulate_monolithic"]

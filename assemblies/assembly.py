@@ -12,8 +12,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from components.component import Component
-from components.interfaces import FIXED, FORCE_IN, SIGNAL_OUT, ComponentError, Port
+from components.component import Block
+from components.interfaces import (FIXED, FORCE_IN, SIGNAL_IN, SIGNAL_OUT, ComponentError,
+                                   Port, connectable, describe_signal)
 
 from .causality import CausalityError, Link, compatible, port_causalities, resolve
 
@@ -39,10 +40,11 @@ class Connection:
 class Assembly:
     def __init__(self, name: str):
         self.name = name
-        self.components: dict[str, Component] = {}
+        self.components: dict[str, Block] = {}
         self.connections: list[Connection] = []
 
-    def add(self, instance: str, component: Component) -> Component:
+    def add(self, instance: str, component: Block) -> Block:
+        """Add `component` (one of ours, or any FMU: :class:`assemblies.foreign.FMU`)."""
         if not instance.isidentifier():
             raise AssemblyError(f"assembly '{self.name}': instance name '{instance}' "
                                 "must be an identifier (letters, digits, _)")
@@ -52,7 +54,7 @@ class Assembly:
         self.components[instance] = component
         return component
 
-    def component(self, instance: str) -> Component:
+    def component(self, instance: str) -> Block:
         if instance not in self.components:
             raise AssemblyError(f"assembly '{self.name}': no instance '{instance}'; "
                                 f"instances: {', '.join(self.components)}")
@@ -65,8 +67,8 @@ class Assembly:
         for port in comp.ports:
             if port.name == port_name:
                 return instance, port, comp.profile.ports[port.name]
-        raise AssemblyError(f"assembly '{self.name}': {type(comp).__name__} '{instance}' has no "
-                            f"port '{port_name}'; ports: {', '.join(p.name for p in comp.ports)}")
+        raise AssemblyError(f"assembly '{self.name}': {comp._where()} has no port "
+                            f"'{port_name}'; ports: {', '.join(p.name for p in comp.ports)}")
 
     def connect(self, a: str, b: str) -> None:
         """Connect two ports, e.g. ``connect("driver.flange", "block.flange_a")``.
@@ -75,7 +77,11 @@ class Assembly:
         available profiles fits them; which pair is decided by ``resolve_causality``.
         """
         (ia, pa, _), (ib, pb, _) = self._port(a), self._port(b)
-        if pa.domain != pb.domain:
+        if not connectable(pa.domain, pb.domain):
+            if pa.domain.flow is None and pb.domain.flow is None:
+                raise AssemblyError(
+                    f"cannot connect {a} to {b}: {a} is {describe_signal(pa.domain)}, {b} is "
+                    f"{describe_signal(pb.domain)}; a connection joins signals of one type and unit")
             raise AssemblyError(f"cannot connect {a} ({pa.domain.name}) to {b} ({pb.domain.name}): "
                                 "ports must be of the same domain and unit")
         kinds_a = port_causalities(self.components[ia], pa.name)
@@ -85,6 +91,14 @@ class Assembly:
                 where = "its profile" if len(comp.profiles) == 1 or comp.profile_explicit \
                     else "every profile"
                 raise AssemblyError(f"cannot connect {a} to {b}: {ref} is grounded in {where}")
+        for ref, port, kinds in ((a, pa, kinds_a), (b, pb, kinds_b)):
+            # an input takes one source: say so now, naming both, not at the first run
+            if port.domain.flow is None and kinds == [SIGNAL_IN]:
+                for c in self.connections:
+                    if ref in (c.a, c.b):
+                        raise AssemblyError(
+                            f"cannot connect {a} to {b}: input {ref} is already fed by "
+                            f"{c.b if c.a == ref else c.a}; an input takes one source")
         if not any(compatible(x, y) for x in kinds_a for y in kinds_b):
             ca, cb = "/".join(k for k in kinds_a if k != FIXED), "/".join(k for k in kinds_b if k != FIXED)
             raise AssemblyError(

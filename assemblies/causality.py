@@ -12,7 +12,8 @@ picks one per component so that
 - no port is left unconnected as a required input. An unconnected flange follows
   Modelica: its flow is zero, so ``force`` (a free flange, its force input stays at
   its start value 0) and ``fixed`` (grounded) are fine, but ``motion`` would need a
-  motion nobody computes; an unconnected signal ``input`` likewise.
+  motion nobody computes; an unconnected signal ``input`` likewise, unless its port
+  is ``optional`` (an FMU's input, which FMI gives a start value to keep).
 
 Among the valid assignments the search returns the first in declaration order (a
 component's first profile is its usual one), so results are deterministic. Components
@@ -66,7 +67,7 @@ class Link:
         return f"{'.'.join(self.a)} - {'.'.join(self.b)}"
 
 
-def _search(names, options, links, check_dangling, connected):
+def _search(names, options, links, check_dangling, supplied):
     """First assignment (instance -> profile) satisfying every link, or None."""
     by_instance = {n: [lk for lk in links if n in (lk.a[0], lk.b[0])] for n in names}
     chosen: dict = {}
@@ -80,7 +81,7 @@ def _search(names, options, links, check_dangling, connected):
                 return False
         if check_dangling:
             for port, causality in profile.ports.items():
-                if (name, port) not in connected and causality not in UNCONNECTED_OK:
+                if (name, port) not in supplied and causality not in UNCONNECTED_OK:
                     return False
         return True
 
@@ -101,12 +102,15 @@ def resolve(assembly_name: str, components: dict, links: list[Link]) -> dict:
     """Instance -> chosen Profile; raises CausalityError naming the ports when impossible."""
     names = list(components)
     options = {n: candidates(components[n]) for n in names}
-    connected = {lk.a for lk in links} | {lk.b for lk in links}
+    # ports that need nothing from outside: the connected ones, and the optional ones
+    # (which keep their start value when left open)
+    supplied = ({lk.a for lk in links} | {lk.b for lk in links}
+                | {(n, p.name) for n in names for p in components[n].ports if p.optional})
     # a port that is a required input in every available profile can never be left open
     for name in names:
         comp = components[name]
         for port in comp.ports:
-            if (name, port.name) in connected:
+            if (name, port.name) in supplied:
                 continue
             kinds = port_causalities(comp, port.name)
             if kinds and not any(k in UNCONNECTED_OK for k in kinds):
@@ -114,12 +118,12 @@ def resolve(assembly_name: str, components: dict, links: list[Link]) -> dict:
                     f"assembly '{assembly_name}': {name}.{port.name} is a dangling required input "
                     f"({'/'.join(kinds)} in every profile {_profile_list(comp)}); connect it to a "
                     "port that supplies it, or use a component whose profile grounds it")
-    solution = _search(names, options, links, True, connected)
+    solution = _search(names, options, links, True, supplied)
     if solution is not None:
         return solution
     # name the first connection that cannot be added to the ones before it
     for k in range(1, len(links) + 1):
-        if _search(names, options, links[:k], False, connected) is None:
+        if _search(names, options, links[:k], False, supplied) is None:
             culprit = links[k - 1]
             related = [str(lk) for lk in links[:k - 1]
                        if {lk.a[0], lk.b[0]} & {culprit.a[0], culprit.b[0]}]
@@ -131,10 +135,10 @@ def resolve(assembly_name: str, components: dict, links: list[Link]) -> dict:
                 + (f" together with {', '.join(related)}" if related else "")
                 + f" (profiles available: {offered})")
     # every connection fits, but only with a required input left open somewhere
-    first = _search(names, options, links, False, connected)
+    first = _search(names, options, links, False, supplied)
     open_inputs = [f"{n}.{port} ({c})" for n, profile in first.items()
                    for port, c in profile.ports.items()
-                   if (n, port) not in connected and c not in UNCONNECTED_OK]
+                   if (n, port) not in supplied and c not in UNCONNECTED_OK]
     raise CausalityError(
         f"assembly '{assembly_name}': every choice of profiles that fits the connections leaves a "
         f"required input dangling, e.g. {', '.join(open_inputs)}; connect it")

@@ -24,9 +24,10 @@ import zipfile
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
+from components.component import Component
 from fmus import build_fmu
 
-from .assembly import Assembly
+from .assembly import Assembly, AssemblyError
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
@@ -90,6 +91,11 @@ def system_structure(assembly: Assembly, fmus: dict[str, Path], stop_time: float
 def export_ssp(assembly: Assembly, path: str | Path, stop_time: float = 10.0) -> Path:
     """Write `assembly` as an SSP archive at `path` (see the module doc)."""
     path = Path(path)
+    for name, component in assembly.components.items():
+        if not isinstance(component, Component):  # nothing to build it from
+            raise AssemblyError(f"assembly '{assembly.name}': SSP export builds an FMI 2 FMU "
+                                f"from each component's equations, but instance '{name}' is a "
+                                "foreign FMU; exporting foreign FMUs is not supported yet")
     assembly.resolve_causality()
     with tempfile.TemporaryDirectory() as tmp:
         fmus = {name: build_fmu(component, Path(tmp) / f"{name}.fmu", fmi_version=2)

@@ -2,17 +2,18 @@
 
 ``COMPONENTS`` maps the names that ``mechfmu build`` takes to component classes.
 """
-from .component import Component
+from .component import Block, Component
 from .dae import FlatModel, flatten
 from .interfaces import ComponentError, Parameter, Port, Profile, State
 from .axle import RigidBodyOnAxle
 from .beam import AssumedModesBeam
-from .force_sources import ConstantForce
+from .force_sources import ConstantForce, Force
 from .motion_sources import HarmonicMotion, SineMotion
 from .rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
 from .rolling_coin import RollingCoin
 from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
-from .sources import ConstantSpeed
+from .sensors import ForceSensor, PositionSensor, SpeedSensor
+from .sources import ConstantSpeed, Position, Speed
 from .spring_block import SpringBlock
 from .rotational import Motor, TorsionalSpring
 from .translational import MassWithFriction, Spring, SpringDamper
@@ -21,11 +22,12 @@ COMPONENTS = {cls.__name__: cls for cls in (
     SpringBlock, ConstantSpeed, SineMotion, HarmonicMotion, ConstantForce, AssumedModesBeam,
     RigidBodyOnAxle, InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin,
     TorqueFreeBody, WobblingDisk, Skate, MassWithFriction, Spring, SpringDamper, TorsionalSpring,
-    Motor)}
+    Motor, Force, Position, Speed, PositionSensor, SpeedSensor, ForceSensor)}
 
-__all__ = ["AssumedModesBeam", "COMPONENTS", "Component", "ComponentError", "ConstantForce",
-           "ConstantSpeed", "FlatModel", "HarmonicMotion", "SineMotion",
-           "HemisphericalShell", "InclinedCylinder", "MassWithFriction", "Motor", "Parameter", "Port", "Profile",
-           "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Spring", "SpringBlock",
-           "SpringDamper", "State", "TorsionalSpring",
+__all__ = ["AssumedModesBeam", "Block", "COMPONENTS", "Component", "ComponentError",
+           "ConstantForce", "ConstantSpeed", "FlatModel", "Force", "ForceSensor",
+           "HarmonicMotion", "SineMotion", "HemisphericalShell", "InclinedCylinder",
+           "MassWithFriction", "Motor", "Parameter", "Port", "Position", "PositionSensor",
+           "Profile", "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Speed",
+           "SpeedSensor", "Spring", "SpringBlock", "SpringDamper", "State", "TorsionalSpring",
            "TorqueFreeBody", "WobblingDisk", "flatten"]

@@ -1,9 +1,13 @@
-"""The base class every mechanical component derives from.
+"""The base classes of what an assembly holds.
 
-A component is data (parameters, options, states, modes, ports, profiles,
-constraints) plus one method, ``equations(e)``, that states its physics as
-residuals in the symbols of an :class:`components.dae.EquationBuilder`. Values are
-checked here, when the component is made, so a bad parameter never reaches C.
+:class:`Block` is what an assembly needs of an instance: ports, causality profiles,
+and parameters and start values settable by name, checked when set, so a bad value
+never reaches C. A foreign FMU (:class:`assemblies.foreign.FMU`) is a Block.
+
+:class:`Component`, the base of every mechanical component, is a Block plus modes and
+one method, ``equations(e)``, that states its physics as residuals in the symbols of an
+:class:`components.dae.EquationBuilder`: what can be flattened, built into our FMU or
+joined with others (``isinstance(x, Component)`` asks exactly that).
 """
 from __future__ import annotations
 
@@ -14,16 +18,14 @@ from .interfaces import (ComponentError, Constraint, Mode, Option, Parameter, Po
                          Profile, State)
 
 
-class Component:
+class Block:
+    """An assembly instance: ports, profiles, and checked values settable by name."""
     parameters: tuple[Parameter, ...] = ()
     options: tuple[Option, ...] = ()
     states: tuple[State, ...] = ()
-    modes: tuple[Mode, ...] = ()
     ports: tuple[Port, ...] = ()
     profiles: tuple[Profile, ...] = ()
     constraints: tuple[Constraint, ...] = ()
-    #: the experiment written into the FMU's DefaultExperiment
-    default_stop_time: float = 10.0
 
     def __init__(self, name: str | None = None, profile: str | None = None, **values):
         self.name = name or type(self).__name__
@@ -80,7 +82,7 @@ class Component:
             if key in self.values:
                 p = next(p for p in self.parameters if p.name == key)
                 raise ComponentError(f"{self._where()}: parameter {name} = {value} is not allowed; "
-                                     f"{name} ({p.description}, {p.unit}) must be a finite number "
+                                     f"{name} ({p.label()}) must be a finite number "
                                      f"{p.allowed()}")
             raise ComponentError(f"{self._where()}: start value {name} = {value} must be finite")
         (self.values if key in self.values else self.starts)[key] = number
@@ -91,7 +93,7 @@ class Component:
             if p.violates(value):
                 raise ComponentError(
                     f"{self._where()}: parameter {p.name} = {value:g} is not allowed; "
-                    f"{p.name} ({p.description}, {p.unit}) must be {p.allowed()}")
+                    f"{p.name} ({p.label()}) must be {p.allowed()}")
         for s in self.states:
             if not math.isfinite(self.starts[s.name]):
                 raise ComponentError(f"{self._where()}: start value of {s.name} must be finite")
@@ -105,11 +107,27 @@ class Component:
     def option(self, name: str) -> str:
         return self.option_values[name]
 
+    @classmethod
+    def describe(cls) -> str:
+        """The first line of the docstring: what `mechfmu components` prints."""
+        return (cls.__doc__ or cls.__name__).strip().splitlines()[0]
+
+    def __repr__(self) -> str:
+        vals = ", ".join(f"{k}={v:g}" for k, v in self.values.items())
+        return f"{type(self).__name__}(name={self.name!r}, profile={self.profile.name!r}, {vals})"
+
+
+class Component(Block):
+    """A mechanical component: a Block whose physics are CasADi equations."""
+    modes: tuple[Mode, ...] = ()
+    #: the experiment written into the FMU's DefaultExperiment
+    default_stop_time: float = 10.0
+
     def parameter_constraints(self) -> list[Constraint]:
         """Every check on the parameters, ranges included, in one list for the FMU's C check."""
         out = []
         for p in self.parameters:
-            msg = f"{type(self).__name__}: {p.name} ({p.description}, {p.unit}) must be {p.allowed()}"
+            msg = f"{type(self).__name__}: {p.name} ({p.label()}) must be {p.allowed()}"
             if p.min != -math.inf:
                 out.append(Constraint(lambda ns, p=p: getattr(ns, p.name) - p.min, msg, p.min_strict))
             if p.max != math.inf:
@@ -120,12 +138,3 @@ class Component:
 
     def equations(self, e) -> None:  # pragma: no cover - every component overrides it
         raise NotImplementedError
-
-    @classmethod
-    def describe(cls) -> str:
-        """The first line of the docstring: what `mechfmu components` prints."""
-        return (cls.__doc__ or cls.__name__).strip().splitlines()[0]
-
-    def __repr__(self) -> str:
-        vals = ", ".join(f"{k}={v:g}" for k, v in self.values.items())
-        return f"{type(self).__name__}(name={self.name!r}, profile={self.profile.name!r}, {vals})"

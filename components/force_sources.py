@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from .component import Component
-from .interfaces import MOTION_IN, TRANSLATIONAL, Parameter, Port, Profile
+from .interfaces import MOTION_IN, SIGNAL_IN, TRANSLATIONAL, Parameter, Port, Profile, signal
 
 
 class ConstantForce(Component):
@@ -20,3 +20,20 @@ class ConstantForce(Component):
 
     def equations(self, e):
         e.residual(e.port("flange").f + e.p.F)
+
+
+class Force(Component):
+    """Force given by a signal, applied to the connected flange (MSL Translational.Sources.Force).
+
+    Input: ``f`` [N], positive along +s of the flange it acts on (e.g. a controller's
+    output). Connector: ``flange`` — motion in, cut force ``flange.f = -f`` out (the
+    sign convention of :class:`ConstantForce`).
+    """
+
+    ports = (Port("f", signal("N"), "force applied to the connected flange, along +s"),
+             Port("flange", TRANSLATIONAL, "flange the force acts through"))
+    profiles = (Profile("applied", "force signal in; motion in, force out",
+                        {"f": SIGNAL_IN, "flange": MOTION_IN}),)
+
+    def equations(self, e):
+        e.residual(e.port("flange").f + e.port("f"))

@@ -27,6 +27,10 @@ class Parameter:
     max: float = math.inf
     min_strict: bool = False  # True: value must be > min, not >= min
 
+    def label(self) -> str:
+        """``description, unit`` for messages (the unit left out where there is none)."""
+        return f"{self.description}, {self.unit}" if self.unit else self.description
+
     def allowed(self) -> str:
         lo = "" if self.min == -math.inf else f"{'>' if self.min_strict else '>='} {self.min:g}"
         hi = "" if self.max == math.inf else f"<= {self.max:g}"
@@ -106,6 +110,7 @@ class Domain:
     name: str
     across: tuple[tuple[str, str, str], ...]  # (name, unit, description), highest derivative last
     flow: tuple[str, str, str] | None          # None for plain signals
+    value_type: str = "Float64"                # FMI type of the variables (signals: Int32 too)
 
 
 TRANSLATIONAL = Domain(
@@ -123,8 +128,28 @@ ROTATIONAL = Domain(
     flow=("tau", "N.m", "cut torque acting on the component at the flange"))
 
 
-def signal(unit: str) -> Domain:
-    return Domain(f"signal[{unit}]", across=(("", unit, "signal value"),), flow=None)
+def signal(unit: str, value_type: str = "Float64") -> Domain:
+    """A plain signal of one unit and FMI type (a Float64 signal, the usual kind, is
+    named by its unit alone). ``unit=""``: the FMU it comes from declares no unit."""
+    shown = unit or "no unit"
+    name = f"signal[{shown}]" if value_type == "Float64" else f"signal[{value_type}, {shown}]"
+    return Domain(name, across=(("", unit, "signal value"),), flow=None, value_type=value_type)
+
+
+def connectable(a: Domain, b: Domain) -> bool:
+    """Ports of these domains may be connected: the same domain, or signals of one type
+    where one side declares no unit (tools often leave units out, and FMI then says
+    nothing about them; the side that declares one is taken at its word)."""
+    if a == b:
+        return True
+    return (a.flow is None and b.flow is None and a.value_type == b.value_type
+            and "" in (a.across[0][1], b.across[0][1]))
+
+
+def describe_signal(domain: Domain) -> str:
+    """``Float64 [N]``, ``Int32 [1]``, ``Float64 (no unit)``: a signal's type and unit."""
+    unit = domain.across[0][1]
+    return f"{domain.value_type} [{unit}]" if unit else f"{domain.value_type} (no unit)"
 
 
 @dataclass(frozen=True)
@@ -132,6 +157,10 @@ class Port:
     name: str
     domain: Domain
     description: str
+    # True: the port may stay unconnected even where its causality is a required input
+    # (an FMU's input keeps its start value, as FMI defines); our components' inputs
+    # must always be connected
+    optional: bool = False
 
 
 # How a port crosses the FMU boundary.

@@ -18,6 +18,7 @@ UNITS: dict[str, dict[str, int]] = {
     "rad/s": {"rad": 1, "s": -1},
     "rad/s2": {"rad": 1, "s": -2},
     "1/s": {"s": -1},
+    "Hz": {"s": -1},
     "N.m": {"kg": 1, "m": 2, "s": -2},
     "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
     "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},

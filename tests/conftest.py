@@ -74,3 +74,18 @@ def drop_component():
             e.terminate_when(e.x.h, "the mass hit the ground")
 
     return Drop
+
+
+# --- FMUs this project did not generate (tests/foreign_fmus.py), built once per machine ---
+@pytest.fixture(scope="session")
+def casadi_pi():
+    """A PI speed controller exported by CasADi's DaeBuilder.export_fmu (FMI 3 ME)."""
+    from foreign_fmus import casadi_pi_fmu
+    return casadi_pi_fmu()
+
+
+@pytest.fixture(scope="session")
+def pythonfmu_pi():
+    """The same controller built by pythonfmu (FMI 2 CS, canGetAndSetFMUstate false)."""
+    from foreign_fmus import pythonfmu_pi_fmu
+    return pythonfmu_pi_fmu()

@@ -6,6 +6,7 @@ returns (ctypes does not own the memory behind a pointer field).
 """
 from __future__ import annotations
 
+import _signal
 import contextlib
 import ctypes as C
 import signal
@@ -66,8 +67,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("n_event_groups", C.c_int), ("event_groups", _P(EventGroup)),
                 ("n_times", C.c_long), ("times", _P(C.c_double)), ("out", _P(C.c_double)),
                 ("stop_time", C.c_double), ("tolerance", C.c_double), ("method", C.c_int),
-                ("event_subsamples", C.c_int), ("progress", PROGRESS_FN),
-                ("progress_ctx", C.c_void_p)]
+                ("event_subsamples", C.c_int), ("max_step", C.c_double),
+                ("progress", PROGRESS_FN), ("progress_ctx", C.c_void_p)]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1
@@ -117,15 +118,19 @@ class Progress:
     """The C progress callback: calls the user's `progress(t)` and asks the engine to
     stop on Ctrl-C (a SIGINT handler sets a flag while the engine runs: the run then
     ends cleanly at its last completed step and keeps what it computed). An exception
-    raised by `progress` also stops the run, and is raised again after it."""
+    raised by `progress` also stops the run, and is raised again after it.
+
+    The engine calls one C callback made once per process (making one per run costs as
+    much as a short run); it reaches the Progress of the run in progress on its thread
+    (:meth:`sigint` makes it current), since the engine calls back on the caller's."""
 
     def __init__(self, progress=None):
         self.user = progress
         self.interrupted = False
         self.error: BaseException | None = None
-        self.callback = PROGRESS_FN(self._call)
+        self.callback = _dispatch
 
-    def _call(self, _ctx, t):
+    def _call(self, t):
         if self.user is not None and self.error is None:
             try:
                 self.user(float(t))
@@ -135,23 +140,39 @@ class Progress:
 
     @contextlib.contextmanager
     def sigint(self):
-        """While the engine runs, Ctrl-C sets a flag instead of raising."""
-        if threading.current_thread() is not threading.main_thread():
-            yield
-            return
-
-        def handler(_signum, _frame):
-            self.interrupted = True
-
-        previous = signal.signal(signal.SIGINT, handler)
+        """While the engine runs, this is the thread's current Progress and, on the main
+        thread, Ctrl-C sets a flag instead of raising."""
+        outer = getattr(_current, "progress", None)
+        _current.progress = self
         try:
-            yield
+            if threading.current_thread() is not threading.main_thread():
+                yield
+                return
+
+            def handler(_signum, _frame):
+                self.interrupted = True
+
+            # _signal: signal.signal's enum conversions cost more than a short run
+            previous = _signal.signal(signal.SIGINT, handler)
+            try:
+                yield
+            finally:
+                _signal.signal(signal.SIGINT, previous)
         finally:
-            signal.signal(signal.SIGINT, previous)
+            _current.progress = outer
 
     def reraise(self):
         if self.error is not None:
             raise self.error
+
+
+_current = threading.local()
+
+
+@PROGRESS_FN
+def _dispatch(_ctx, t):
+    progress = getattr(_current, "progress", None)
+    return 0 if progress is None else progress._call(t)
 
 
 def run_events(lib, run, group: int) -> np.ndarray:

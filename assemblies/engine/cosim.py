@@ -7,9 +7,8 @@ dependency groups and algebraic loops, the Gauss–Seidel order, which inputs th
 hold constant over a step, the states the adaptive step estimates its error on. The C
 master loads the FMUs, runs the experiment and writes the outputs into numpy buffers.
 
-At a fixed step without event synchronisation it is the reference master's algorithm
-(:func:`assemblies.masters.cosim.cosimulate`) step for step. ``event_sync`` (on by
-default with ``adaptive``) adds what a friction assembly needs to be right: a step in
+It is the reference master's algorithm (:func:`assemblies.masters.cosim.cosimulate`)
+step for step, in every scheme. ``event_sync`` (on by default with ``adaptive``) adds what a friction assembly needs to be right: a step in
 which an FMU locates an event is redone to end at the event, and an event an FMU
 handles at the start of a step because its inputs moved across a switching condition
 (a held spring force passing the static friction limit) is moved back to where the
@@ -20,12 +19,14 @@ from __future__ import annotations
 import ctypes as C
 import math
 import time as wallclock
+import warnings
 from typing import Callable
 
 import numpy as np
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_cosim_settings, check_experiment
+from ..foreign import check_mode
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
 from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, EngineError,
@@ -48,6 +49,11 @@ DEFAULT_SCHEME = {"adaptive": True, "extrapolation": 1, "tol": 1e-5}
 
 _P = C.POINTER
 _INT = _P(C.c_int)
+
+
+class FixedStepFallback(UserWarning):
+    """An adaptive or event-synchronised co-simulation ran fixed steps instead: an FMU
+    cannot roll back (``settings["fallback"]`` of the result says which and why)."""
 
 
 class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
@@ -96,8 +102,10 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     there), plus `event_sync` (None: on exactly when `adaptive`): steps end at the
     events the FMUs locate, and events the FMUs handle at a communication point are
     moved back to where the coupled system crossed (to 1e-10 s). Adaptive steps and
-    event synchronisation roll back through FMU state, so every FMU must be able to
-    get and set its state. `progress(t)` is called about every 0.25 s of wall time;
+    event synchronisation roll back through FMU state; where an FMU cannot get and set
+    its state (a foreign one, say) the run falls back to fixed steps of `step` without
+    event synchronisation, warns (:class:`FixedStepFallback`) and says so in
+    ``settings["fallback"]``. `progress(t)` is called about every 0.25 s of wall time;
     Ctrl-C (or an exception in `progress`, raised again afterwards) stops the run
     cleanly, keeping the rows computed (``settings["stopped"]``). With
     ``**DEFAULT_SCHEME`` a friction assembly comes out right (module doc).
@@ -107,18 +115,23 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     if not (isinstance(max_loop_iterations, int) and max_loop_iterations >= 1):
         raise AssemblyError(f"max_loop_iterations must be an integer >= 1, not {max_loop_iterations!r}")
     event_sync = bool(adaptive) if event_sync is None else bool(event_sync)
+    check_mode(assembly, "cosim")  # a Model-Exchange-only FMU: named, with the modes that apply
     started = wallclock.perf_counter()
     couplings = assembly.couplings()
     names = list(assembly.components)
     index = {n: i for i, n in enumerate(names)}
     fmus = {n: prepared(assembly.components[n]) for n in names}
-    rollback = adaptive or event_sync
-    for n in names:
-        if rollback and not fmus[n].can_get_set_state:
-            raise AssemblyError(f"{'adaptive' if adaptive else 'event-synchronised'} "
-                                f"co-simulation rolls steps back, but FMU instance '{n}' cannot "
-                                "get and set its state (canGetAndSetFMUState is false); use a "
-                                "fixed step with event_sync=False")
+    fallback = None
+    stateless = [n for n in names if not fmus[n].can_get_set_state]
+    if (adaptive or event_sync) and stateless:
+        fallback = (f"{'adaptive' if adaptive else 'event-synchronised'} co-simulation rolls "
+                    f"steps back, but FMU instance{'s' if len(stateless) > 1 else ''} "
+                    f"{', '.join(repr(n) for n in stateless)} cannot get and set "
+                    f"{'their' if len(stateless) > 1 else 'its'} state (canGetAndSetFMUstate "
+                    f"is false): ran fixed communication steps of {step:g} s without event "
+                    "synchronisation instead")
+        warnings.warn(fallback, FixedStepFallback, stacklevel=2)
+        adaptive = event_sync = False
 
     def var(inst, name) -> Variable:
         vr, is_int = fmus[inst].variable(inst, name)
@@ -199,7 +212,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                 "loops": [" -> ".join(".".join(couplings[k].source) for k in g) for g in loops],
                 "loop_iterations": cstats.loop_iterations, "loop_residual": cstats.loop_residual,
                 "events_synchronised": cstats.events_synchronised,
-                "events_located": cstats.events_located}
+                "events_located": cstats.events_located, "fallback": fallback}
     if stats.status == STOPPED:
         settings["stopped"] = f"at t = {out[-1, 0]:g}" + (
             " by Ctrl-C" if progress_cb.interrupted else " by the progress callback")
@@ -225,4 +238,4 @@ def _failure(stats, cstats, couplings, groups, newton, max_iterations) -> str:
     return f"at t = {cstats.loop_failed_time:g}: {text}"
 
 
-__all__ = ["DEFAULT_SCHEME", "cosimulate"]
+__all__ = ["DEFAULT_SCHEME", "FixedStepFallback", "cosimulate"]

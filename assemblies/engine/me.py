@@ -15,15 +15,21 @@ import threading
 import time as wallclock
 from typing import Callable
 
+import casadi as ca
 import numpy as np
+
+from components.component import Component
+from components.interfaces import ComponentError
+from components.dae import flatten
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment
+from ..foreign import check_mode
 from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
-from .prepare import options_key, prepared, prepared_composite, record_columns
+from .prepare import binary_key, prepared, prepared_composite, record_columns
 
 METHODS = {"DOPRI5": 0, "RODAS3": 1}
 EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
@@ -46,6 +52,7 @@ class _Plan:
         Couplings; columns: (instance index, variable); groups: (instance index, first
         indicator, count, outputs)."""
         self.lock = threading.Lock()  # a plan's start values are one run's at a time
+        self.capped = True  # steps no longer than the output interval (step_limit_needed)
         self.keep = keep = B.Keep()
         self.names = [n for n, _, _ in instances]
         self.fmus = [f for _, f, _ in instances]
@@ -104,7 +111,7 @@ class _Plan:
                         len(self.column_names), self.columns, len(self.groups),
                         self.group_array, len(times), times.ctypes.data_as(dp),
                         out.ctypes.data_as(dp), stop_time, tolerance, METHODS[method],
-                        event_subsamples, prog.callback, None)
+                        event_subsamples, step if self.capped else 0.0, prog.callback, None)
         stats = B.Stats()
         started = wallclock.perf_counter()
         with prog.sigint():
@@ -147,8 +154,35 @@ def _engine():
 
 def _structure_key(assembly: Assembly) -> tuple:
     return (assembly.name,
-            tuple((n, type(c), c.profile.name, options_key(c)) for n, c in assembly.components.items()),
+            tuple((n, *binary_key(c)) for n, c in assembly.components.items()),
             tuple((c.a, c.b) for c in assembly.connections))
+
+
+def indicators_follow_time(component) -> bool:
+    """Is one of the component's event indicators written in terms of time? Then it can
+    move while every state stands still."""
+    flat = flatten(component)
+    return bool(flat.z.numel()) and ca.depends_on(flat.z, flat.t)
+
+
+def step_limit_needed(assembly: Assembly) -> bool:
+    """Can an event indicator move while every state stands still? Then a step that grows
+    long while a contact sticks could carry an excursion of the indicator between its
+    samples (a shaken table's acceleration moving the static margin), and steps are
+    capped at the output interval. The coupled instances are the joined model's equations,
+    so the joined model answers for them: its indicators move alone when they are written
+    in terms of time (a driver's motion, a shaking). An FMU we did not generate, or members
+    that cannot be joined, cannot tell: capped."""
+    from ..masters.monolithic import composite
+    components = list(assembly.components.values())
+    if not all(isinstance(c, Component) for c in components):
+        return True
+    if len(components) == 1 and not assembly.connections:
+        return indicators_follow_time(components[0])
+    try:
+        return indicators_follow_time(composite(assembly))
+    except (AssemblyError, ComponentError):  # not joinable; bad values are the FMUs' to name
+        return True
 
 
 def _plan(key, build) -> _Plan:
@@ -175,6 +209,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
     crossing twice inside a step is found (0: step ends only).
     """
     _check(stop_time, step, tolerance, method)
+    check_mode(assembly, "me")  # a Co-Simulation-only FMU: named, with the modes that apply
     started = wallclock.perf_counter()
 
     def build():
@@ -188,7 +223,9 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         groups = [(i, 0, fmus[n].n_event_indicators, fmus[n].outputs)
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
-        return _Plan(keys, coupling_order(couplings, fmus), columns, groups)
+        plan = _Plan(keys, coupling_order(couplings, fmus), columns, groups)
+        plan.capped = step_limit_needed(assembly)
+        return plan
 
     key = ("me", _structure_key(assembly), None if record is None else tuple(record), fmi_version)
     plan = _plan(key, build)
@@ -214,6 +251,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
     member's events are told apart by the composite's indicators that member owns.
     """
     _check(stop_time, step, tolerance, method)
+    check_mode(assembly, "monolithic")  # a foreign FMU has no equations to join
     started = wallclock.perf_counter()
 
     def build():
@@ -245,6 +283,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                 for k in [*c.values, *c.starts]]
         plan = _Plan([("assembly", fmu, keys)], [], columns, groups)
         plan.members = members
+        plan.capped = indicators_follow_time(comp)
         return plan
 
     key = ("monolithic", _structure_key(assembly), None if record is None else tuple(record))

@@ -4,8 +4,10 @@ Preparing an FMU means building it (``fmus.build_fmu`` of the class defaults und
 instance's profile and options: parameter studies reuse one binary, the instance's own
 values are set as start values), reading its model description and extracting it.
 That costs 0.02-0.3 s (flatten, codegen, hashing, unzip) and would dwarf a 1 ms run,
-so the result is memoised by what determines the binary: the component's class,
-profile, options and FMI version. A second run in one process does none of it.
+so the result is memoised by what determines the binary (:func:`binary_key`): the
+component's class, profile, options and FMI version. A second run in one process
+does none of it. A foreign FMU (:class:`assemblies.foreign.FMU`) is not built: its
+file is prepared as it is (:func:`prepared_path`), memoised by path and file stamp.
 """
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ from components.dae import flatten
 from fmus import build_fmu
 
 from ..assembly import AssemblyError
+from ..foreign import FMU
 
 _lock = threading.Lock()
 _by_key: dict = {}
@@ -57,9 +60,14 @@ class PreparedFmu:
 
 
 @functools.lru_cache(maxsize=None)
-def prepared_path(path: str) -> PreparedFmu:
-    """An FMU file read and extracted once (the same file is never extracted twice)."""
-    md = read_model_description(path)
+def prepared_path(path: str, stamp: tuple = ()) -> PreparedFmu:
+    """An FMU file, ours or any tool's, read and extracted once (the same file is never
+    extracted twice); `stamp` (e.g. its mtime and size) makes a file rebuilt at the
+    same path a different entry."""
+    # not validated: fmpy's validation rejects what many tools write (CasADi's export
+    # lacks UnitDefinitions) though the engine needs none of it; ours are validated by
+    # the tests
+    md = read_model_description(path, validate=False)
     me, cs = md.modelExchange, md.coSimulation
     p = PreparedFmu(
         path=path, unzip_dir=str(Path(extract(path))), token=md.guid,
@@ -85,9 +93,20 @@ def options_key(component) -> tuple:
     return tuple(sorted((k, repr(v)) for k, v in component.option_values.items()))
 
 
+def binary_key(component) -> tuple:
+    """What determines `component`'s FMU binary: for ours the class, profile and options
+    (values are set per run); for a foreign FMU its file."""
+    if isinstance(component, FMU):
+        return ("fmu", str(component.path), component.stamp)
+    return (type(component), component.profile.name, options_key(component))
+
+
 def prepared(component, fmi_version: int = 3) -> PreparedFmu:
-    """The FMU of `component`'s class under its profile and options (see the module doc)."""
-    key = (type(component), component.profile.name, options_key(component), fmi_version)
+    """The FMU of `component`'s class under its profile and options (see the module doc);
+    a foreign FMU's own file (`fmi_version` is then the file's, not a choice)."""
+    if isinstance(component, FMU):
+        return prepared_path(str(component.path), component.stamp)
+    key = (*binary_key(component), fmi_version)
     with _lock:
         hit = _by_key.get(key)
     if hit is not None:
@@ -108,7 +127,7 @@ def prepared_composite(assembly, fmi_version: int = 3):
     from ..masters.monolithic import composite
     assembly.resolve_causality()
     key = ("composite", assembly.name, fmi_version, tuple(
-        (name, type(c), c.profile.name, options_key(c)) for name, c in assembly.components.items()),
+        (name, *binary_key(c)) for name, c in assembly.components.items()),
         tuple((c.a, c.b) for c in assembly.connections))
     with _lock:
         hit = _by_key.get(key)

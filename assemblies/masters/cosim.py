@@ -35,6 +35,7 @@ from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_cosim_settings, check_experiment
+from ..foreign import check_own_only
 from ..result import Result, Table
 from .adaptive import StepController
 from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
@@ -338,6 +339,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     """
     check_experiment(stop_time, step, tolerance)
     check_cosim_settings(scheme, extrapolation, adaptive, tol)
+    check_own_only(assembly, "cosimulate")
     event_sync = bool(adaptive) if event_sync is None else bool(event_sync)
     couplings = assembly.couplings()
     instances: dict[str, _Instance] = {}

@@ -34,6 +34,7 @@ from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, P
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment
+from ..foreign import check_mode
 from ..result import Result, Table
 from .hybrid import METHODS, IntegrationError, integrate
 
@@ -64,6 +65,7 @@ class JoinedModel:
 
 def join(assembly: Assembly) -> JoinedModel:
     """Flatten every component and substitute the connections (see the module doc)."""
+    check_mode(assembly, "monolithic")  # a foreign FMU has no equations to flatten
     couplings = assembly.couplings()  # resolves the causality profiles
     members = {name: flatten(comp) for name, comp in assembly.components.items()}
     t = ca.SX.sym("t")

@@ -1,8 +1,8 @@
 """The compiled engine's co-simulation master (assemblies/engine/c/cosim.c).
 
-At a fixed step without event synchronisation it is the fmpy-driven reference master's
-algorithm, so both must give the same numbers (to round-off of the extrapolating
-polynomial's fit). Its default scheme (adaptive steps, linear extrapolation, event
+It is the fmpy-driven reference master's algorithm, so both must give the same numbers
+(to round-off of the extrapolating polynomial's fit; the default scheme is compared in
+test_fmpy_event_sync.py). Its default scheme (adaptive steps, linear extrapolation, event
 synchronisation) is checked against independent references: the closed-form first
 slip and sliding equilibrium of two_block_belt, the beam-with-tip-spring frequency of
 beam_friction_damper, the exact solution of a block stuck on a beam tip (an algebraic
@@ -115,7 +115,7 @@ def test_default_beam_friction_damper_sticks_for_good_at_the_tip_spring_frequenc
     assert figures["E_lost"].error < 1e-6 * figures["E_lost"].reference + 1e-7
 
 
-def test_rollback_needs_fmu_state_and_the_message_names_the_instance(monkeypatch):
+def test_without_fmu_state_adaptive_falls_back_to_fixed_steps_and_says_so(monkeypatch):
     real = engine_cosim.prepared
 
     def stateless(component):
@@ -125,9 +125,15 @@ def test_rollback_needs_fmu_state_and_the_message_names_the_instance(monkeypatch
 
     monkeypatch.setattr(engine_cosim, "prepared", stateless)
     sc = scene("stick_slip")
-    with pytest.raises(ValueError, match=r"adaptive co-simulation rolls steps back, but FMU "
-                                         r"instance 'block' cannot get and set its state"):
-        cosimulate(sc.build(), 1.0, sc.step, adaptive=True)
+    with pytest.warns(engine_cosim.FixedStepFallback,
+                      match=r"adaptive co-simulation rolls steps back, but FMU instance 'block' "
+                            r"cannot get and set its state .*: ran fixed communication steps "
+                            r"of 0.1 s without event synchronisation instead"):
+        res = cosimulate(sc.build(), 1.0, sc.step, adaptive=True)
+    assert not res.settings["adaptive"] and not res.settings["event_sync"]
+    assert "instance 'block'" in res.settings["fallback"]
+    fixed = cosimulate(sc.build(), 1.0, sc.step)
+    assert np.array_equal(res["block.x"], fixed["block.x"])  # exactly the fixed-step run
 
 
 def test_ctrl_c_stops_cleanly_and_keeps_what_was_computed():

@@ -244,3 +244,11 @@ def test_a_model_without_indicators_steps_freely_and_keeps_its_period():
     settings = run.result.settings
     assert settings["steps"] < settings["stop_time"] / settings["step"]  # fewer than outputs
     assert run.passed, [(f.name, f.error, f.bound) for f in run.figures]
+
+
+def test_steps_are_capped_only_where_an_indicator_can_move_while_the_states_stand_still():
+    from assemblies.engine.me import step_limit_needed
+    from short_slip import short_slip_assembly
+    assert not step_limit_needed(scene("coin_rolling").build())  # its own states alone
+    assert step_limit_needed(scene("stick_slip").build())  # the driver's motion moves it
+    assert step_limit_needed(short_slip_assembly())  # the table's shaking moves it

@@ -97,6 +97,7 @@ typedef struct {
     double stop_time, tolerance;   /* tolerance: relative = absolute error of the solver */
     int method;                    /* ENG_DOPRI5 or ENG_RODAS3 */
     int event_subsamples;          /* interior points scanned per step for double crossings */
+    double max_step;               /* the longest step; 0: no limit */
     eng_progress_fn progress;      /* may be NULL */
     void *progress_ctx;
 } eng_me_spec;

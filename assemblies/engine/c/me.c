@@ -473,13 +473,14 @@ static int integrate(me_master *M)
     const double stop = s->stop_time;
     double t = 0.0;
     double h_initial = s->n_times > 1 ? s->times[1] - s->times[0] : stop / 100.0;
-    /* No step longer than the output interval. While a contact sticks the states are
-       constant and the steps grow without limit, but an indicator can still move with
-       time through another FMU's outputs (a shaken table's acceleration): a 0.1 s excursion
-       of the static margin inside a 3 s step slips between the interior samples. Output
+    /* No step longer than spec->max_step (Python gives the output interval where an
+       indicator can move while the states stand still: through another FMU's outputs,
+       or with time). While a contact sticks the states are constant and the steps grow
+       without limit, but a shaken table's acceleration still moves the static margin: a
+       0.1 s excursion inside a 3 s step slips between the interior samples. Output
        points still come from the dense output; no step is made to end on one. Without
        indicators there is nothing to miss, and the solver steps freely. */
-    const double h_max = M->n_z > 0 ? h_initial : INFINITY;
+    const double h_max = s->max_step > 0 && M->n_z > 0 ? s->max_step : INFINITY;
     eng_progress progress;
 
     eng_progress_start(&progress, s->progress, s->progress_ctx);

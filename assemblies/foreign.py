@@ -1,0 +1,243 @@
+"""Any FMU as an instance of an assembly: ``asm.add("ctrl", FMU("controller.fmu"))``.
+
+An FMU from another tool (FMI 2.0 or 3.0, Model Exchange and/or Co-Simulation) joins
+an assembly as a :class:`components.component.Block` (what an assembly needs of an
+instance; our components are Blocks with CasADi equations), read from its model
+description:
+
+- its Float64/Real and Int32/Integer inputs and outputs are signal ports named after
+  the variables (structured names such as ``a.b[1]`` kept), with the FMU's units, so
+  ``Assembly.connect`` checks units and types as for our ports; one profile (inputs
+  in, outputs out), so the causality resolution needs no special case for it;
+- its inputs are *optional* ports: one left unconnected keeps its start value, as FMI
+  defines (ours must be connected);
+- its parameters (causality ``parameter``, fixed or tunable), its inputs' start values
+  and the start values of its continuous states that may be set (initial exact or
+  approx) are settable by name, defaulting to the FMU's own start values and checked
+  like ours (finite, within the declared min/max, Int32 ones whole numbers).
+
+Other types (Boolean, String, Float32, arrays, clocks...) are not ports: the engine
+couples Float64 and Int32 values only.
+
+It carries no CasADi equations (it is no ``Component``), so it cannot be joined
+symbolically (mode ``monolithic``); the compiled engine runs it from its file
+(``engine.prepare.prepared`` maps it to ``prepared_path``): Model Exchange FMUs in mode
+``me``, Co-Simulation FMUs in mode ``cosim``. :func:`check_mode` says, before a run,
+which instance a mode cannot run and which modes can.
+"""
+from __future__ import annotations
+
+import math
+import os
+import zipfile
+from pathlib import Path
+
+import fmpy
+from fmpy import read_model_description
+
+from components.component import Block
+from components.interfaces import (SIGNAL_IN, SIGNAL_OUT, ComponentError, Parameter, Port,
+                                   Profile, State, signal)
+
+from .assembly import AssemblyError
+
+# FMI 2 and FMI 3 names of the two types the engine couples, as the Float64/Int32 of FMI 3
+_VALUE_TYPES = {"Real": "Float64", "Float64": "Float64", "Integer": "Int32", "Int32": "Int32"}
+# the assembly modes an FMU interface can take part in
+INTERFACE_MODES = {"ModelExchange": "me", "CoSimulation": "cosim"}
+MODES = ("cosim", "me", "monolithic")
+
+
+class FmuError(AssemblyError):
+    """A foreign FMU that cannot be used: the message names the file and what is wrong."""
+
+
+class FMU(Block):
+    """A foreign FMU (FMI 2.0/3.0, Model Exchange or Co-Simulation) as an assembly instance.
+
+    ``FMU(path, name=None, units=None, **values)``: `units` declares the units of
+    variables the FMU leaves without one (``units={"f": "N"}``), so that their
+    connections are checked too (an undeclared unit connects to any unit); `values` set
+    parameters and start values by name, as ``asm.set("inst.name", value)`` does.
+    """
+
+    def __init__(self, path: str | os.PathLike, name: str | None = None,
+                 units: dict[str, str] | None = None, **values):
+        self.path = Path(path).expanduser().resolve()
+        md = _read_model_description(self.path)
+        self.model_description = md
+        self.fmi_version = int(md.fmiVersion[0])
+        # what identifies the binary: the engine's caches are keyed by it, so an FMU
+        # rebuilt at the same path is read again
+        stat = self.path.stat()
+        self.stamp = (stat.st_mtime_ns, stat.st_size)
+        self.interfaces = _interfaces_with_binaries(self.path, md)
+        self._integers: set[str] = set()
+        units = dict(units or {})
+        self.ports, self.parameters, self.states = self._declare(md, units)
+        if units:
+            raise FmuError(f"{self._file()}: units= names variables that are not among its "
+                           f"ports: {', '.join(units)}; ports: "
+                           f"{', '.join(p.name for p in self.ports) or '(none)'}")
+        self.profiles = (Profile("fmu", "inputs in, outputs out", {
+            p.name: SIGNAL_IN if self._causality[p.name] == "input" else SIGNAL_OUT
+            for p in self.ports}),)
+        super().__init__(name=name or md.modelName, **values)
+
+    # --- what the model description declares --------------------------------------
+    def _declare(self, md, units: dict) -> tuple[tuple, tuple, tuple]:
+        """(ports, parameters, states) from the model variables; `units` is consumed."""
+        ports, parameters, states = [], [], []
+        self._causality = {}
+        derivative_of = {v.derivative.name for v in md.modelVariables if v.derivative is not None}
+        for v in md.modelVariables:
+            value_type = _VALUE_TYPES.get(v.type)
+            if value_type is None or getattr(v, "dimensions", None):
+                continue  # not a scalar the engine couples
+            unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None) or ""
+            if v.name in units:
+                given = units.pop(v.name)
+                if unit and unit != given:
+                    raise FmuError(f"{self._file()}: units= gives {v.name} the unit '{given}', "
+                                   f"but the FMU declares '{unit}'")
+                unit = given
+            description = v.description or f"{v.causality} {v.name} of {self.path.name}"
+            has_start = v.start is not None
+            if value_type == "Int32":
+                self._integers.add(v.name)
+            if v.causality in ("input", "output"):
+                self._causality[v.name] = v.causality
+                # an input with a start value may stay unconnected: it keeps that value
+                ports.append(Port(v.name, signal(unit, value_type), description,
+                                  optional=v.causality == "input" and has_start))
+            if not has_start:
+                continue
+            start = float(v.start)
+            if v.causality in ("parameter", "input") and v.variability != "constant":
+                parameters.append(Parameter(
+                    v.name, start, unit, description,
+                    min=float(v.min) if v.min is not None else -math.inf,
+                    max=float(v.max) if v.max is not None else math.inf))
+            elif v.name in derivative_of and v.initial in ("exact", "approx"):
+                states.append(State(v.name, start, unit, description))
+        return tuple(ports), tuple(parameters), tuple(states)
+
+    # --- Block's interface -------------------------------------------------------------
+    def _file(self) -> str:
+        return f"FMU '{self.path.name}'"
+
+    def _where(self) -> str:
+        return f"FMU '{self.name}' ({self.path.name})"
+
+    def set(self, key: str, value) -> None:
+        """As for our components; an Int32 variable takes whole numbers only."""
+        if key in self._integers:
+            try:
+                whole = float(value).is_integer()
+            except (TypeError, ValueError):
+                whole = True  # not a number: Block.set names it so
+            if not whole:
+                raise ComponentError(f"{self._where()}: {key} = {value!r} is not allowed; "
+                                     f"{key} is an Int32 variable: it takes whole numbers")
+        super().set(key, value)
+
+    # --- which modes can run it -------------------------------------------------------
+    def modes_supported(self) -> list[str]:
+        """The assembly modes this FMU can take part in: 'me' for Model Exchange, 'cosim'
+        for Co-Simulation (never 'monolithic': it has no equations to join)."""
+        return [INTERFACE_MODES[i] for i in self.interfaces]
+
+    def describe_interfaces(self) -> str:
+        return " and ".join(self.interfaces) + (" only" if len(self.interfaces) == 1 else "")
+
+
+def check_mode(assembly, mode: str) -> None:
+    """Raise AssemblyError if `mode` cannot run a foreign instance of `assembly`: the
+    message names the instance, its file and interfaces, and the modes that apply."""
+    foreign = {name: c for name, c in assembly.components.items() if isinstance(c, FMU)}
+    if not foreign:
+        return
+    applicable = [m for m in MODES if all(m in c.modes_supported() for c in foreign.values())]
+    if applicable:
+        remedy = "run it with mode " + " or ".join(f"'{m}'" for m in applicable)
+    else:
+        remedy = "no mode runs all of " + ", ".join(
+            f"{n} ({c.describe_interfaces()})" for n, c in foreign.items())
+    for name, c in foreign.items():
+        if mode == "monolithic":
+            raise AssemblyError(
+                f"assembly '{assembly.name}': mode 'monolithic' joins the CasADi equations of "
+                f"our components into one FMU, but instance '{name}' is a compiled FMU "
+                f"({c.path.name}) with no equations to join; {remedy}")
+        if mode not in c.modes_supported():
+            what = {"me": "integrates Model Exchange FMUs in one solver",
+                    "cosim": "steps Co-Simulation FMUs"}[mode]
+            raise AssemblyError(
+                f"assembly '{assembly.name}': mode '{mode}' {what}, but instance '{name}' "
+                f"({c.path.name}) is {c.describe_interfaces()}; {remedy}")
+
+
+def check_own_only(assembly, master: str) -> None:
+    """Raise AssemblyError if `assembly` has a foreign instance: the fmpy reference
+    `master` rebuilds every FMU from its component and drives FMI 3 only."""
+    for name, c in assembly.components.items():
+        if isinstance(c, FMU):
+            raise AssemblyError(
+                f"assembly '{assembly.name}': the fmpy reference master {master} drives our "
+                f"own components' FMUs only, but instance '{name}' is a foreign FMU "
+                f"({c.path.name}); run it in the compiled engine (engine 'c': "
+                "assemblies.cosimulate or assemblies.simulate_me)")
+
+
+# --- reading the file, with one clear line for each way it can be unusable -----------------
+def _read_model_description(path: Path):
+    if not path.exists():
+        raise FmuError(f"FMU file '{path}' does not exist")
+    if path.is_dir() or not zipfile.is_zipfile(path):
+        raise FmuError(f"'{path}' is not an FMU: an FMU is a zip archive with a "
+                       "modelDescription.xml")
+    with zipfile.ZipFile(path) as zf:
+        if "modelDescription.xml" not in zf.namelist():
+            raise FmuError(f"'{path}' is not an FMU: the archive has no modelDescription.xml")
+    try:
+        # not validated: many tools write descriptions fmpy's validation rejects (CasADi's
+        # export lacks UnitDefinitions); what the engine needs is read all the same
+        md = read_model_description(str(path), validate=False)
+    except Exception as exc:  # noqa: BLE001 - fmpy raises many kinds; one line names it
+        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise FmuError(f"cannot read the modelDescription.xml of '{path}': {reason}") from None
+    if not md.fmiVersion.startswith(("2.", "3.")):
+        raise FmuError(f"'{path}' is an FMI {md.fmiVersion} FMU; FMI 2.0 and 3.0 are supported")
+    if md.modelExchange is None and md.coSimulation is None:
+        raise FmuError(f"'{path}' has neither a Model Exchange nor a Co-Simulation interface "
+                       "(FMI 3 Scheduled Execution is not supported)")
+    return md
+
+
+def _interfaces_with_binaries(path: Path, md) -> tuple[str, ...]:
+    """The interfaces whose shared library for this platform is in the archive."""
+    folder = fmpy.platform if md.fmiVersion.startswith("2") else fmpy.platform_tuple
+    with zipfile.ZipFile(path) as zf:
+        names = set(zf.namelist())
+    found, expected = [], []
+    for kind, interface in (("ModelExchange", md.modelExchange), ("CoSimulation", md.coSimulation)):
+        if interface is None:
+            continue
+        library = f"binaries/{folder}/{interface.modelIdentifier}{fmpy.sharedLibraryExtension}"
+        expected.append(library)
+        if library in names:
+            found.append(kind)
+    if not found:
+        present = sorted({n.split("/")[1] for n in names
+                          if n.startswith("binaries/") and n.count("/") >= 2 and n.split("/")[1]})
+        source = any(n.startswith("sources/") for n in names)
+        raise FmuError(
+            f"'{path}' has no binary for this platform ({folder}): expected "
+            f"{' or '.join(dict.fromkeys(expected))}; it has binaries for "
+            f"{', '.join(present) or 'no platform'}"
+            + ("; it ships sources: compile them first (fmpy.util.compile_platform_binary)"
+               if source else ""))
+    return tuple(found)
+
+
+__all__ = ["FMU", "FmuError", "check_mode", "check_own_only"]
