@@ -27,3 +27,23 @@ def check_cosim_settings(scheme: str, extrapolation: int, adaptive: bool, tol: f
                             f"not {extrapolation!r}")
     if adaptive and not (math.isfinite(tol) and 0 < tol < 1):
         raise AssemblyError(f"adaptive tolerance tol must be in (0, 1), not {tol}")
+
+
+class FixedStepFallback(UserWarning):
+    """An adaptive or event-synchronised co-simulation ran fixed steps instead: an FMU
+    cannot roll back (``settings["fallback"]`` of the result says which and why). Raised
+    by both co-simulation masters (engine "c" and "fmpy")."""
+
+
+def fixed_step_fallback(adaptive: bool, stateless: list[str], step: float) -> str:
+    """What a co-simulation asked for `adaptive` steps or event synchronisation, with
+    the instances `stateless` unable to get and set their FMU state, says it ran
+    instead (fixed steps of `step`): the text of the warning and of
+    ``settings["fallback"]``, the same from both masters."""
+    many = len(stateless) > 1
+    return (f"{'adaptive' if adaptive else 'event-synchronised'} co-simulation rolls "
+            f"steps back, but FMU instance{'s' if many else ''} "
+            f"{', '.join(repr(n) for n in stateless)} cannot get and set "
+            f"{'their' if many else 'its'} state (canGetAndSetFMUstate "
+            f"is false): ran fixed communication steps of {step:g} s without event "
+            "synchronisation instead")

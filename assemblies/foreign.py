@@ -22,7 +22,9 @@ couples Float64 and Int32 values only.
 It carries no CasADi equations (it is no ``Component``), so it cannot be joined
 symbolically (mode ``monolithic``); the compiled engine runs it from its file
 (``engine.prepare.prepared`` maps it to ``prepared_path``): Model Exchange FMUs in mode
-``me``, Co-Simulation FMUs in mode ``cosim``. :func:`check_mode` says, before a run,
+``me``, Co-Simulation FMUs in mode ``cosim``. Of the fmpy reference masters, the
+co-simulation one (``assemblies.masters.cosim``) runs it from its file too; the Model
+Exchange one refuses it (:func:`check_own_only`). :func:`check_mode` says, before a run,
 which instance a mode cannot run and which modes can.
 """
 from __future__ import annotations
@@ -179,7 +181,8 @@ def check_mode(assembly, mode: str) -> None:
 
 def check_own_only(assembly, master: str) -> None:
     """Raise AssemblyError if `assembly` has a foreign instance: the fmpy reference
-    `master` rebuilds every FMU from its component and drives FMI 3 only."""
+    `master` (Model Exchange) rebuilds every FMU from its component and drives FMI 3
+    only. The fmpy co-simulation master runs foreign FMUs (it uses :func:`check_mode`)."""
     for name, c in assembly.components.items():
         if isinstance(c, FMU):
             raise AssemblyError(

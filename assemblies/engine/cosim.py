@@ -25,7 +25,8 @@ from typing import Callable
 import numpy as np
 
 from ..assembly import Assembly, AssemblyError
-from ..experiment import check_cosim_settings, check_experiment
+from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
+                          fixed_step_fallback)
 from ..foreign import check_mode
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
@@ -49,11 +50,6 @@ DEFAULT_SCHEME = {"adaptive": True, "extrapolation": 1, "tol": 1e-5}
 
 _P = C.POINTER
 _INT = _P(C.c_int)
-
-
-class FixedStepFallback(UserWarning):
-    """An adaptive or event-synchronised co-simulation ran fixed steps instead: an FMU
-    cannot roll back (``settings["fallback"]`` of the result says which and why)."""
 
 
 class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
@@ -124,12 +120,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     fallback = None
     stateless = [n for n in names if not fmus[n].can_get_set_state]
     if (adaptive or event_sync) and stateless:
-        fallback = (f"{'adaptive' if adaptive else 'event-synchronised'} co-simulation rolls "
-                    f"steps back, but FMU instance{'s' if len(stateless) > 1 else ''} "
-                    f"{', '.join(repr(n) for n in stateless)} cannot get and set "
-                    f"{'their' if len(stateless) > 1 else 'its'} state (canGetAndSetFMUstate "
-                    f"is false): ran fixed communication steps of {step:g} s without event "
-                    "synchronisation instead")
+        fallback = fixed_step_fallback(adaptive, stateless, step)
         warnings.warn(fallback, FixedStepFallback, stacklevel=2)
         adaptive = event_sync = False
 

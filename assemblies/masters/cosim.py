@@ -1,4 +1,9 @@
-"""The co-simulation master: FMI 3 Co-Simulation FMUs driven through fmpy.
+"""The co-simulation master: Co-Simulation FMUs driven through fmpy.
+
+Our components run as FMI 3 FMUs rebuilt from them; a foreign FMU
+(:class:`assemblies.foreign.FMU`, FMI 2.0 or 3.0 Co-Simulation) runs from its file, so
+this master is the reference for assemblies with foreign members too (an FMI 2 FMU
+reports no events inside a step: there is no intermediate update in FMI 2).
 
 Communication steps are fixed, or adaptive (step doubling from saved FMU states,
 rollback on rejection: :mod:`assemblies.adaptive`). Sweeps are Jacobi (default) or
@@ -21,12 +26,18 @@ from __future__ import annotations
 
 import math
 import time as wallclock
+import warnings
+import weakref
+from ctypes import byref
 from dataclasses import dataclass
 from typing import Callable
 
-from fmpy import extract, read_model_description
+from fmpy import calloc, extract, free, read_model_description
 from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, printLogMessage)
 from fmpy.fmi3 import FMU3Slave
+from fmpy.logging import addLoggerProxy
 
 import numpy as np
 
@@ -34,8 +45,9 @@ from components.dae import flatten
 from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
-from ..experiment import check_cosim_settings, check_experiment
-from ..foreign import check_own_only
+from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
+                          fixed_step_fallback)
+from ..foreign import FMU, check_mode
 from ..result import Result, Table
 from .adaptive import StepController
 from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
@@ -48,34 +60,87 @@ class SimulationError(RuntimeError):
     """An FMU refused a call; the message carries what the FMU logged."""
 
 
+# FMI 2 logging. fmpy's native proxy (it formats the variadic message, which ctypes
+# cannot) forwards every FMI 2 message, process-wide, to the one Python logger registered
+# last, and keeps only a pointer to it: a logger that died with its instance would crash
+# the next FMU that logs. So there is one logger for the process, registered once, here;
+# it routes a message to the live instance of that name and leaves the others to fmpy's
+# own printer, as fmpy's default callbacks would.
+_FMI2_LOGGING: "weakref.WeakValueDictionary[str, _Instance]" = weakref.WeakValueDictionary()
+
+
+def _fmi2_log(env, instance_name, status, category, message):
+    name = instance_name.decode("utf-8", "replace") if instance_name else ""
+    instance = _FMI2_LOGGING.get(name)
+    if instance is None:
+        printLogMessage(env, instance_name, status, category, message)
+    else:
+        instance._log(env, status, category, message)
+
+
+_FMI2_CALLBACKS = fmi2CallbackFunctions()
+_FMI2_CALLBACKS.logger = fmi2CallbackLoggerTYPE(_fmi2_log)
+_FMI2_CALLBACKS.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+_FMI2_CALLBACKS.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+addLoggerProxy(byref(_FMI2_CALLBACKS))
+
+
 class _Instance:
-    """One FMU instance in a running co-simulation."""
+    """One FMU instance in a running co-simulation.
+
+    Ours are FMI 3 FMUs rebuilt from their component; a foreign FMU
+    (:class:`assemblies.foreign.FMU`) is loaded from its file, FMI 3 through FMU3Slave,
+    FMI 2 through FMU2Slave. FMI 2 Co-Simulation has no intermediate update: such an
+    FMU reports no events, so event synchronisation sees none of its events (they land
+    at the communication point after them), and it records no event rows.
+    """
 
     def __init__(self, name: str, component, tolerance: float):
         path, md = self._load(name, component)
         self.states = [u.variable.derivative.name for u in md.derivatives]
-        # inputs the FMU extrapolates itself (they have a derivative input: s by v, v by a);
-        # the model description does not say so, the flattened component does
-        self.chained = {v.name for v in flatten(component).inputs if v.derivative_input is not None}
         self._unzipped = extract(path)
-        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=self._unzipped,
-                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-        self.fmu.instantiate(loggingOn=False, logMessage=self._log,
-                             intermediateUpdate=self._intermediate_update)
+        common = dict(guid=md.guid, unzipDirectory=self._unzipped,
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        if self.fmi_version == 2:
+            self.fmu = FMU2Slave(**common)
+            _FMI2_LOGGING[name] = self
+            self.fmu.instantiate(callbacks=_FMI2_CALLBACKS, loggingOn=False)
+        else:
+            self.fmu = FMU3Slave(**common)
+            self.fmu.instantiate(loggingOn=False, logMessage=self._log,
+                                 intermediateUpdate=self._intermediate_update)
         self.tolerance = tolerance
 
     def _load(self, name: str, component):
         """Build (or fetch) the FMU and read what a master needs from its description.
 
-        Built with the class defaults, so parameter studies reuse one compiled FMU; the
-        instance's own values are set as start values.
+        Ours are built with the class defaults, so parameter studies reuse one compiled
+        FMU; the instance's own values are set as start values. A foreign FMU is its
+        file, its description read unvalidated (other tools write descriptions fmpy's
+        validation rejects, as the engine's ``prepared_path`` does).
         """
         self.name, self.component = name, component
-        defaults = type(component)(name=name, profile=component.profile.name,
-                                   **component.option_values)
-        path = build_fmu(defaults)
-        md = read_model_description(path)
+        if isinstance(component, FMU):
+            path = str(component.path)
+            md = read_model_description(path, validate=False)
+            # inputs the FMU extrapolates itself over a step: ours take s with v and a
+            # (derivative inputs); a foreign FMU has none of those, and FMI 2's input
+            # derivatives (canInterpolateInputs) are not set by this master, so it holds
+            # every input constant and the master picks the constant (as in the engine)
+            self.chained = set()
+        else:
+            defaults = type(component)(name=name, profile=component.profile.name,
+                                       **component.option_values)
+            path = build_fmu(defaults)
+            md = read_model_description(path)
+            # the model description does not say which inputs have a derivative input
+            # (s by v, v by a); the flattened component does
+            self.chained = {v.name for v in flatten(component).inputs
+                            if v.derivative_input is not None}
+        self.fmi_version = int(md.fmiVersion[0])
         self.variables = {v.name: v for v in md.modelVariables}
+        # Int32 (FMI 2: Integer) variables are got and set as such; all else as Float64/Real
+        self.integers = {v.name for v in md.modelVariables if v.type in ("Int32", "Integer")}
         self.can_get_set_state = bool(md.coSimulation.canGetAndSetFMUstate)
         self.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
         self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
@@ -116,10 +181,22 @@ class _Instance:
         except Exception as exc:  # pragma: no cover - reported after the step
             self.messages.append(f"recording the event at t = {t}: {exc}")
 
+    def enter_initialization(self, tolerance: float, stop_time: float) -> None:
+        if self.fmi_version == 2:
+            self.call("setup experiment", self.fmu.setupExperiment, tolerance, 0.0, stop_time)
+            self.call("enter initialization", self.fmu.enterInitializationMode)
+        else:
+            self.call("enter initialization", self.fmu.enterInitializationMode,
+                      tolerance, 0.0, stop_time)
+
     def do_step(self, t: float, h: float) -> tuple[bool, float]:
-        """fmi3DoStep from `t` over `h`: (the model asks to terminate, time reached)."""
+        """doStep from `t` over `h`: (the model asks to terminate, time reached). A
+        step an FMU discards fails the run, as in the engine."""
         self.step_start = t
         # a master that rolls back may set a state from before t, so this is always False
+        if self.fmi_version == 2:  # FMI 2 says nothing more of a step that went through
+            self.call(f"doStep at t = {t:g}", self.fmu.doStep, t, h, False)
+            return False, t + h
         _, stop, _, reached = self.call(f"doStep at t = {t:g}", self.fmu.doStep, t, h, False)
         return stop, reached
 
@@ -138,21 +215,38 @@ class _Instance:
     def get(self, names: list[str]) -> list[float]:
         """Values of `names`, with one FMI call per variable type (ctypes calls are slow)."""
         values = [0.0] * len(names)
-        for type_name, getter in (("Float64", self.fmu.getFloat64), ("Int32", self.fmu.getInt32)):
+        for type_name, getter in zip(("Float64", "Int32"), self._getters):
             picked = [(i, self.vr(n).valueReference) for i, n in enumerate(names)
-                      if (self.vr(n).type == "Int32") == (type_name == "Int32")]
+                      if self.is_int(n) == (type_name == "Int32")]
             if picked:
                 got = self.call(f"get {type_name} outputs", getter, [vr for _, vr in picked])
                 for (i, _), value in zip(picked, got):
                     values[i] = float(value)
         return values
 
+    @property
+    def _getters(self):
+        """(Float64, Int32) getters: FMI 2 calls them Real and Integer."""
+        if self.fmi_version == 2:
+            return self.fmu.getReal, self.fmu.getInteger
+        return self.fmu.getFloat64, self.fmu.getInt32
+
+    @property
+    def _setters(self):
+        if self.fmi_version == 2:
+            return self.fmu.setReal, self.fmu.setInteger
+        return self.fmu.setFloat64, self.fmu.setInt32
+
+    def is_int(self, name: str) -> bool:
+        self.vr(name)
+        return name in self.integers
+
     def set(self, name: str, value: float) -> None:
         v = self.vr(name)
-        if v.type == "Int32":
-            self.call(f"set {name}", self.fmu.setInt32, [v.valueReference], [int(value)])
+        if self.is_int(name):
+            self.call(f"set {name}", self._setters[1], [v.valueReference], [int(value)])
         else:
-            self.call(f"set {name} = {value}", self.fmu.setFloat64, [v.valueReference], [float(value)])
+            self.call(f"set {name} = {value}", self._setters[0], [v.valueReference], [float(value)])
 
     def partial(self, output: str, input_: str) -> float:
         """d output / d input at the current point (fmi3GetDirectionalDerivative)."""
@@ -207,7 +301,7 @@ class _Master:
         # the inputs the FMU holds constant over a step: the master picks the constant
         self.held = {i for i, c in enumerate(couplings)
                      if c.target[1] not in instances[c.target[0]].chained
-                     and instances[c.target[0]].vr(c.target[1]).type == "Float64"}
+                     and not instances[c.target[0]].is_int(c.target[1])}
         self.history: dict[int, list[tuple[float, float]]] = {i: [] for i in self.held}
         self.terminated = None
         # this step holds the sources' values (no extrapolation): set by event
@@ -335,23 +429,29 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     events the FMUs locate, and events the FMUs handle at a communication point are
     moved back to where the coupled system crossed (to ``EVENT_TOL``,
     :mod:`assemblies.masters.events`). Adaptive steps and event synchronisation roll
-    back through FMU state, so every FMU must be able to get and set its state.
+    back through FMU state; where an FMU cannot get and set its state (a foreign one,
+    say) the run falls back to fixed steps of `step` without event synchronisation,
+    warns (:class:`assemblies.experiment.FixedStepFallback`) and says so in
+    ``settings["fallback"]``, as the compiled engine does. A foreign FMI 2 FMU has no
+    intermediate update: event synchronisation sees no events located inside its steps.
+    A Model-Exchange-only foreign FMU is refused (:func:`assemblies.foreign.check_mode`).
     """
     check_experiment(stop_time, step, tolerance)
     check_cosim_settings(scheme, extrapolation, adaptive, tol)
-    check_own_only(assembly, "cosimulate")
     event_sync = bool(adaptive) if event_sync is None else bool(event_sync)
+    check_mode(assembly, "cosim")  # a Model-Exchange-only FMU: named, with the modes that apply
     couplings = assembly.couplings()
     instances: dict[str, _Instance] = {}
     started = wallclock.perf_counter()
+    fallback = None
     try:
         for name, comp in assembly.components.items():
             instances[name] = _Instance(name, comp, tolerance)
-            if (adaptive or event_sync) and not instances[name].can_get_set_state:
-                raise AssemblyError(
-                    f"{'adaptive' if adaptive else 'event-synchronised'} co-simulation rolls "
-                    f"steps back, but FMU instance '{name}' cannot get and set its state "
-                    "(canGetAndSetFMUState is false); use a fixed step with event_sync=False")
+        stateless = [n for n, i in instances.items() if not i.can_get_set_state]
+        if (adaptive or event_sync) and stateless:  # as the engine does
+            fallback = fixed_step_fallback(adaptive, stateless, step)
+            warnings.warn(fallback, FixedStepFallback, stacklevel=2)
+            adaptive = event_sync = False
         columns = _record_columns(instances, record)
         master = _Master(assembly.name, instances, couplings, assembly.order(), scheme,
                          extrapolation, loop_tolerance, max_loop_iterations, newton)
@@ -367,7 +467,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             comp = inst.component
             for key, value in {**comp.values, **comp.starts}.items():
                 inst.set(key, value)
-            inst.call("enter initialization", inst.fmu.enterInitializationMode, tolerance, 0.0, stop_time)
+            inst.enter_initialization(tolerance, stop_time)
         master.consistent(0.0)
         for inst in instances.values():
             inst.call("exit initialization", inst.fmu.exitInitializationMode)
@@ -392,7 +492,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                     "loops": [" -> ".join(".".join(couplings[i].source) for i in g)
                               for g in master.loops],
                     "loop_iterations": master.loop_iterations,
-                    "loop_residual": master.loop_residual}
+                    "loop_residual": master.loop_residual, "fallback": fallback}
         if adaptive:
             settings["tol"] = tol
         return Result({n: table[n] for n in names}, events, settings)
