@@ -151,9 +151,9 @@ def _parser() -> argparse.ArgumentParser:
     steps.add_argument("--fixed-step", action="store_true",
                        help="a fixed communication step of --step seconds, no error control "
                             "(mode cosim only)")
-    r.add_argument("--mode", choices=("cosim", "me", "monolithic"), default="cosim",
+    r.add_argument("--mode", choices=("cosim", "me", "monolithic"),
                    help="master: co-simulation, one solver over Model Exchange FMUs, or the "
-                        "joined model (default: cosim)")
+                        "joined model (default: the scene's own, cosim for most)")
     r.add_argument("--engine", choices=("c", "fmpy"), default="c",
                    help="c: the compiled engine, one C call per run (default); fmpy: the "
                         "Python reference masters driving the same FMUs through fmpy")

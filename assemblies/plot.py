@@ -1,6 +1,7 @@
 """Plots of a scene's result: one panel per recorded quantity, events marked."""
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -25,7 +26,7 @@ def plot_result(result: Result, columns: list[str], title: str, path: str | Path
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", fontsize=8)
     axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle(title)
+    fig.suptitle(textwrap.fill(title, 90))  # a scene's description can outrun the figure
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

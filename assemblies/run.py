@@ -8,6 +8,7 @@ from pathlib import Path
 
 from .assembly import AssemblyError
 from .engine.cosim import DEFAULT_SCHEME as DEFAULT_COSIM
+from .foreign import check_mode
 from .masters.cosim import cosimulate
 from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
@@ -93,14 +94,15 @@ def _masters(engine: str):
 def run_scene(name: str, stop_time: float | None = None, step: float | None = None,
               tolerance: float | None = None, params: dict | None = None,
               out: str | Path | None = None, scheme: str = "jacobi", progress=None,
-              mode: str = "cosim", adaptive: bool | float | None = None,
+              mode: str | None = None, adaptive: bool | float | None = None,
               extrapolation: int | None = None, engine: str = "c") -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
     `mode` picks the master: ``cosim`` (Co-Simulation FMUs), ``me`` (Model Exchange FMUs
     under one solver) or ``monolithic`` (the joined model as one FMU); for the last two
-    `step` is only the output interval. `engine` runs it in the compiled engine (``c``,
-    default) or in the fmpy-driven Python masters (``fmpy``, the reference).
+    `step` is only the output interval; None, the scene's own (``cosim`` for most, ``me``
+    for a scene with a Model-Exchange-only foreign FMU). `engine` runs it in the compiled
+    engine (``c``, default) or in the fmpy-driven Python masters (``fmpy``, the reference).
 
     Co-simulation by default controls its error: adaptive communication steps to
     ``DEFAULT_COSIM['tol']`` with linear input extrapolation and events synchronised
@@ -131,16 +133,18 @@ def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> di
 
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
-                   scheme="jacobi", progress=None, mode="cosim", adaptive=None,
+                   scheme="jacobi", progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c") -> SceneRun:
+    sc = scene(name)
+    mode = sc.mode if mode is None else mode
     if mode not in MODES:
         raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
     if engine not in ENGINES:
         raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
-    sc = scene(name)
     asm = sc.build()
     for key, value in (params or {}).items():
         asm.set(key, value)
+    check_mode(asm, mode)  # a foreign FMU the mode cannot run: one line, before any work
     common = dict(stop_time=stop_time if stop_time is not None else sc.stop_time,
                   step=step if step is not None else sc.step,
                   tolerance=tolerance if tolerance is not None else sc.tolerance,

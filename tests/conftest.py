@@ -76,7 +76,7 @@ def drop_component():
     return Drop
 
 
-# --- FMUs this project did not generate (tests/foreign_fmus.py), built once per machine ---
+# --- FMUs this project did not generate (assemblies/scenes/pi_controller.py), built once ---
 @pytest.fixture(scope="session")
 def casadi_pi():
     """A PI speed controller exported by CasADi's DaeBuilder.export_fmu (FMI 3 ME)."""

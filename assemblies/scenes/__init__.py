@@ -12,10 +12,11 @@ from .coin import COIN_SCENES
 from .friction import FRICTION_SCENES
 from .joined import JOINED_SCENES
 from .scene import Figure, Scene
+from .speed_control import SPEED_CONTROL_SCENES
 from .table import TABLE_SCENES
 
 SCENES: dict[str, Scene] = {**FRICTION_SCENES, **AXLE_SCENES, **COIN_SCENES, **BEAM_SCENES,
-                            **TABLE_SCENES, **JOINED_SCENES}
+                            **TABLE_SCENES, **JOINED_SCENES, **SPEED_CONTROL_SCENES}
 
 
 def scene(name: str) -> Scene:

@@ -75,6 +75,7 @@ class Scene:
     figures: Callable[[Result, Assembly], list[Figure]]
     plot: list[str] = field(default_factory=list)
     picture: Callable[[Result, str, Path], None] | None = None  # replaces the panel plot
+    mode: str = "cosim"  # the master a run uses when none is asked for (cosim, me, monolithic)
 
 
 __all__ = ["DRIFT", "Figure", "Scene", "solver_accuracy"]

@@ -1,5 +1,5 @@
 """FMUs from other tools in the compiled engine, checked against the closed loop solved by
-hand (tests/foreign_fmus.py).
+hand (assemblies/scenes/pi_controller.py, re-exported by tests/foreign_fmus.py).
 
 The loop: a PI speed controller (the foreign FMU) reads a mass's speed through our
 ``SpeedSensor`` and pushes it through our ``Force``; the mass (``MassWithFriction``,
