@@ -37,17 +37,24 @@ CONTROLLER = dict(v_ref=1.0, k=2.0, Ti=0.5)
 BLOCK = dict(m=1.0, g=9.81, mu_k=0.1, mu_s=0.15)
 
 
-def _speed_control() -> Assembly:
-    asm = Assembly("speed_control")
-    asm.add("ctrl", FMU(casadi_pi_fmu(), **CONTROLLER))
+def pi_speed_loop(name: str, controller: FMU, block: MassWithFriction) -> Assembly:
+    """`block` held at speed by the PI `controller` FMU (input v, output f): a
+    SpeedSensor reads the block, a Force pushes it. Instances: ctrl, force, block, speed."""
+    asm = Assembly(name)
+    asm.add("ctrl", controller)
     asm.add("force", Force())
-    asm.add("block", MassWithFriction(**BLOCK))
+    asm.add("block", block)
     asm.add("speed", SpeedSensor())
     asm.connect("force.flange", "block.flange_a")
     asm.connect("speed.flange", "block.flange_b")
     asm.connect("speed.v", "ctrl.v")
     asm.connect("ctrl.f", "force.f")
     return asm
+
+
+def _speed_control() -> Assembly:
+    return pi_speed_loop("speed_control", FMU(casadi_pi_fmu(), **CONTROLLER),
+                         MassWithFriction(**BLOCK))
 
 
 def loop_parameters(asm: Assembly) -> dict:

@@ -16,7 +16,8 @@ from assemblies import FMU, Assembly, AssemblyError
 from assemblies.engine.cosim import cosimulate as engine_cosimulate
 from assemblies.experiment import FixedStepFallback
 from assemblies.masters.cosim import cosimulate as fmpy_cosimulate
-from components import Force, MassWithFriction, SpeedSensor
+from assemblies.scenes.speed_control import pi_speed_loop
+from components import MassWithFriction
 
 M, FRICTION, V_REF, K, TI = 1.0, 0.3, 1.0, 2.0, 0.5
 FALLBACK = (r"adaptive co-simulation rolls steps back, but FMU instance 'ctrl' cannot get "
@@ -25,16 +26,8 @@ FALLBACK = (r"adaptive co-simulation rolls steps back, but FMU instance 'ctrl' c
 
 
 def pi_loop(controller) -> Assembly:
-    asm = Assembly("pi_loop")
-    asm.add("ctrl", FMU(controller))
-    asm.add("force", Force())
-    asm.add("mass", MassWithFriction(m=M, g=1.0, mu_k=FRICTION, mu_s=FRICTION))
-    asm.add("speed", SpeedSensor())
-    asm.connect("force.flange", "mass.flange_a")
-    asm.connect("speed.flange", "mass.flange_b")
-    asm.connect("speed.v", "ctrl.v")
-    asm.connect("ctrl.f", "force.f")
-    return asm
+    return pi_speed_loop("pi_loop", FMU(controller),
+                         MassWithFriction(m=M, g=1.0, mu_k=FRICTION, mu_s=FRICTION))
 
 
 def euler(n_steps: int, h: float):
@@ -92,14 +85,14 @@ def test_fmpy_master_with_a_foreign_fmu_is_forward_euler_on_the_loop(pythonfmu_p
     stop = 4.0
     for h in (0.02, 0.01):
         res = fmpy_cosimulate(pi_loop(pythonfmu_pi), stop, h, 1e-10, extrapolation=0,
-                              record=["mass.v_abs", "ctrl.f"])
+                              record=["block.v_abs", "ctrl.f"])
         assert res.settings["fallback"] is None
         n = len(res["time"]) - 1
         assert n == round(stop / h)
         v_euler, f_euler = euler(n, h)
-        assert np.abs(res["mass.v_abs"] - v_euler).max() <= 1e-12
+        assert np.abs(res["block.v_abs"] - v_euler).max() <= 1e-12
         assert np.abs(res["ctrl.f"] - f_euler).max() <= 1e-12
-        errors.append(np.abs(res["mass.v_abs"] - exact_speed(res["time"])).max())
+        errors.append(np.abs(res["block.v_abs"] - exact_speed(res["time"])).max())
         assert errors[-1] < h
     assert 1.9 < errors[0] / errors[1] < 2.1
 

@@ -15,7 +15,8 @@ import pytest
 
 from assemblies import FMU, Assembly, cosimulate, simulate_me
 from assemblies.engine.cosim import FixedStepFallback
-from components import Force, MassWithFriction, SpeedSensor
+from assemblies.scenes.speed_control import pi_speed_loop
+from components import MassWithFriction
 
 from foreign_fmus import euler_pi_on_sliding_mass, pi_on_sliding_mass, pythonfmu_pi_fmu
 
@@ -24,16 +25,8 @@ STOP = 20.0  # e decays as exp(-t): 2e-9 left at the end
 
 
 def pi_loop(controller) -> Assembly:
-    asm = Assembly("pi_loop")
-    asm.add("ctrl", FMU(controller))
-    asm.add("force", Force())
-    asm.add("mass", MassWithFriction(m=LOOP["m"], g=1.0, mu_k=0.3, mu_s=0.3))
-    asm.add("speed", SpeedSensor())
-    asm.connect("force.flange", "mass.flange_a")
-    asm.connect("speed.flange", "mass.flange_b")
-    asm.connect("speed.v", "ctrl.v")
-    asm.connect("ctrl.f", "force.f")
-    return asm
+    return pi_speed_loop("pi_loop", FMU(controller),
+                         MassWithFriction(m=LOOP["m"], g=1.0, mu_k=0.3, mu_s=0.3))
 
 
 def test_casadi_model_exchange_controller_joins_the_one_integrator(casadi_pi):
@@ -44,18 +37,18 @@ def test_casadi_model_exchange_controller_joins_the_one_integrator(casadi_pi):
     block sliding forward throughout, the speed settled on the set point."""
     res = simulate_me(pi_loop(casadi_pi), STOP, 0.1, 1e-10)
     v, f = pi_on_sliding_mass(res["time"], **LOOP)
-    assert np.abs(res["mass.v_abs"] - v).max() < 1e-8
+    assert np.abs(res["block.v_abs"] - v).max() < 1e-8
     assert np.abs(res["ctrl.f"] - f).max() < 1e-8
-    assert np.all(res["mass.mode"] == 1)
-    assert abs(res["mass.v_abs"][-1] - LOOP["v_ref"]) < 1e-8
+    assert np.all(res["block.mode"] == 1)
+    assert abs(res["block.v_abs"][-1] - LOOP["v_ref"]) < 1e-8
     assert abs(res["ctrl.f"][-1] - LOOP["friction"]) < 1e-8  # all the force goes to friction
 
 
 def test_a_parameter_set_on_the_foreign_instance_reaches_its_fmu(casadi_pi):
     asm = pi_loop(casadi_pi)
     asm.set("ctrl.v_ref", 0.5)
-    res = simulate_me(asm, STOP, 1.0, 1e-10, record=["mass.v_abs", "ctrl.I"])
-    assert abs(res["mass.v_abs"][-1] - 0.5) < 1e-8
+    res = simulate_me(asm, STOP, 1.0, 1e-10, record=["block.v_abs", "ctrl.I"])
+    assert abs(res["block.v_abs"][-1] - 0.5) < 1e-8
     # a local variable of the FMU can be recorded by name; at rest I holds Ti friction / k
     assert abs(res["ctrl.I"][-1] - LOOP["Ti"] * LOOP["friction"] / LOOP["k"]) < 1e-8
 
@@ -78,12 +71,12 @@ def test_pythonfmu_co_simulation_controller_is_forward_euler_on_the_loop(pythonf
         assert not res.settings["adaptive"] and "fixed communication steps" in \
             res.settings["fallback"]
         v_euler, f_euler = euler_pi_on_sliding_mass(len(res["time"]) - 1, h, **LOOP)
-        assert np.abs(res["mass.v_abs"] - v_euler).max() < 1e-12
+        assert np.abs(res["block.v_abs"] - v_euler).max() < 1e-12
         assert np.abs(res["ctrl.f"] - f_euler).max() < 1e-12
         v, _ = pi_on_sliding_mass(res["time"], **LOOP)
-        errors.append(np.abs(res["mass.v_abs"] - v).max())
+        errors.append(np.abs(res["block.v_abs"] - v).max())
         assert errors[-1] < h
-        assert abs(res["mass.v_abs"][-1] - LOOP["v_ref"]) < 1e-8
+        assert abs(res["block.v_abs"][-1] - LOOP["v_ref"]) < 1e-8
     assert 1.9 < errors[0] / errors[1] < 2.1
 
 
@@ -100,7 +93,7 @@ def test_adaptive_co_simulation_rolls_a_foreign_fmu_back_through_its_state():
                          adaptive=True, extrapolation=1, tol=tol)
     assert res.settings["adaptive"] and res.settings["fallback"] is None
     v, _ = pi_on_sliding_mass(res["time"], **LOOP)
-    assert np.abs(res["mass.v_abs"] - v).max() < tol
+    assert np.abs(res["block.v_abs"] - v).max() < tol
 
 
 def test_an_unconnected_input_keeps_the_start_value_it_is_given(casadi_pi):
