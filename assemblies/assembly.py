@@ -42,6 +42,9 @@ class Assembly:
         self.name = name
         self.components: dict[str, Block] = {}
         self.connections: list[Connection] = []
+        # set while the assembly is exported as one FMU: its open signal inputs are then
+        # the FMU's inputs, fed from outside, instead of dangling
+        self.signals_from_outside = False
 
     def add(self, instance: str, component: Block) -> Block:
         """Add `component` (one of ours, or any FMU: :class:`assemblies.foreign.FMU`)."""
@@ -119,7 +122,7 @@ class Assembly:
             (ia, pa, _), (ib, pb, _) = self._port(conn.a), self._port(conn.b)
             links.append(Link((ia, pa.name), (ib, pb.name)))
         try:
-            chosen = resolve(self.name, self.components, links)
+            chosen = resolve(self.name, self.components, links, self.signals_from_outside)
         except CausalityError as exc:
             raise AssemblyError(str(exc)) from None
         for name, profile in chosen.items():

@@ -98,14 +98,19 @@ def _search(names, options, links, check_dangling, supplied):
     return dict(chosen) if extend(0) else None
 
 
-def resolve(assembly_name: str, components: dict, links: list[Link]) -> dict:
-    """Instance -> chosen Profile; raises CausalityError naming the ports when impossible."""
+def resolve(assembly_name: str, components: dict, links: list[Link],
+            open_signals: bool = False) -> dict:
+    """Instance -> chosen Profile; raises CausalityError naming the ports when impossible.
+
+    `open_signals`: an unconnected signal port is fed from outside the assembly (an
+    exported assembly FMU's inputs), so it needs no connection."""
     names = list(components)
     options = {n: candidates(components[n]) for n in names}
     # ports that need nothing from outside: the connected ones, and the optional ones
     # (which keep their start value when left open)
     supplied = ({lk.a for lk in links} | {lk.b for lk in links}
-                | {(n, p.name) for n in names for p in components[n].ports if p.optional})
+                | {(n, p.name) for n in names for p in components[n].ports
+                   if p.optional or (open_signals and p.domain.flow is None)})
     # a port that is a required input in every available profile can never be left open
     for name in names:
         comp = components[name]

@@ -76,15 +76,23 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_export(args) -> int:
+    from assemblies.fmu_export import export_fmu
     from assemblies.masters.monolithic import composite
     from assemblies.scenes import scene
     from assemblies.ssp import export_ssp
     from fmus import build_fmu
-    if not (args.ssp or args.fmu):
-        raise UsageError("export needs --ssp FILE.ssp and/or --fmu FILE.fmu")
+    if not (args.ssp or args.fmu or args.composite):
+        raise UsageError("export needs --ssp FILE.ssp, --fmu FILE.fmu and/or --composite FILE.fmu")
     sc = scene(args.scene)
-    for path, export in ((args.ssp, lambda a, p: export_ssp(a, p, sc.stop_time)),
-                         (args.fmu, lambda a, p: build_fmu(composite(a), p))):
+    exports = (
+        (args.ssp, lambda a, p: export_ssp(a, p, sc.stop_time)),
+        # the scene's own master inside doStep (a monolithic scene's members co-simulate)
+        (args.fmu, lambda a, p: export_fmu(a, p, fmi=args.fmi, outputs=sc.record,
+                                           stop_time=sc.stop_time, step=sc.step,
+                                           tolerance=sc.tolerance,
+                                           mode=sc.mode if sc.mode == "me" else None)),
+        (args.composite, lambda a, p: build_fmu(composite(a), p, fmi_version=args.fmi)))
+    for path, export in exports:
         if path:
             asm = sc.build()
             for key, value in _parse_params(args.param).items():
@@ -162,7 +170,14 @@ def _parser() -> argparse.ArgumentParser:
     x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU")
     x.add_argument("scene")
     x.add_argument("--ssp", metavar="FILE.ssp", help="SSP 1.0: the FMUs and SystemStructure.ssd")
-    x.add_argument("--fmu", metavar="FILE.fmu", help="the joined (monolithic) model as one FMU")
+    x.add_argument("--fmu", metavar="FILE.fmu",
+                   help="the assembly as one FMU: its member FMUs in resources/, the engine "
+                        "in doStep (co-simulation, or the one integrator where the scene runs "
+                        "'me'; then Model Exchange too)")
+    x.add_argument("--composite", metavar="FILE.fmu",
+                   help="the joined (monolithic) model of our components as one FMU")
+    x.add_argument("--fmi", type=int, choices=(2, 3), default=2,
+                   help="FMI version of --fmu and --composite (default 2)")
     x.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
     x.set_defaults(fn=_cmd_export)

@@ -44,7 +44,7 @@ def cache_dir() -> Path:
     return Path(os.environ.get("MECHFMU_CACHE", Path.home() / ".cache" / "mechfmu"))
 
 
-def _platform_folder(fmi_version: int) -> str:
+def platform_folder(fmi_version: int) -> str:
     """binaries/<folder>: FMI 3 names machine and system (x86_64-linux), FMI 2 the system
     and word size (linux64)."""
     machine = {"AMD64": "x86_64", "arm64": "aarch64"}.get(platform.machine(), platform.machine())
@@ -87,10 +87,11 @@ def content_hash(*texts: str) -> str:
 
 
 def compile_library(c_files: list[Path], library: Path, include_dirs: list[Path],
-                    what: str) -> None:
+                    what: str, defines: list[str] = ()) -> None:
     """gcc with the FMUs' flags: one shared library from `c_files`. Everything mechfmu
     compiles goes through here, so every binary is built (and hashed) the same way."""
-    cmd = (["gcc", *CFLAGS, *(f"-I{d}" for d in include_dirs), "-o", str(library)]
+    cmd = (["gcc", *CFLAGS, *(f"-D{d}" for d in defines), *(f"-I{d}" for d in include_dirs),
+            "-o", str(library)]
            + [str(f) for f in c_files] + ["-lm"])
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
@@ -147,7 +148,7 @@ def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version
         partial = target.with_suffix(f".{os.getpid()}.partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
             zf.writestr("modelDescription.xml", xml)
-            zf.write(library, f"binaries/{_platform_folder(fmi_version)}/{identifier}.so")
+            zf.write(library, f"binaries/{platform_folder(fmi_version)}/{identifier}.so")
             for path in sorted(sources.iterdir()):
                 zf.write(path, f"sources/{path.name}")
             if documentation:

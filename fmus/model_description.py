@@ -25,12 +25,12 @@ import casadi as ca
 from components.dae import FlatModel
 
 from .codegen import ModelVariable, computed_outputs, variable_table
-from .units import DEFAULT_DISPLAY_UNIT, DISPLAY_UNITS, unit_exponents
+from .units import DEFAULT_DISPLAY_UNIT, DISPLAY_UNITS, UNITS, unit_exponents
 
 GENERATION_TOOL = "mechfmu 0.1"
 FMI_VERSIONS = (2, 3)
 
-_LOG_CATEGORIES = (
+LOG_CATEGORIES = (
     ("logEvents", "events: time, indicators, mode changes"),
     ("logStatusWarning", "warnings"),
     ("logStatusError", "errors, with what is allowed"),
@@ -126,18 +126,30 @@ def _display_unit(r: ModelVariable) -> str | None:
 
 def _shared_head(model: FlatModel, table: list[ModelVariable], stop_time: float,
                  tolerance: float) -> list[str]:
-    """UnitDefinitions, LogCategories, DefaultExperiment: the same shape in FMI 2 and 3."""
+    return shared_head({r.unit for r in table if r.unit}, stop_time, tolerance)
+
+
+def shared_head(units: set[str], stop_time: float, tolerance: float | None = None,
+                step: float | None = None, foreign_units: bool = False) -> list[str]:
+    """UnitDefinitions, LogCategories, DefaultExperiment: the same shape in FMI 2 and 3.
+
+    Our units must be in fmus/units.py (a typo fails the build); with `foreign_units`
+    (an assembly FMU passing on other tools' variables) a unit we do not know is
+    declared by name alone, which both standards allow."""
     out = ["  <UnitDefinitions>"]
-    for unit in sorted({r.unit for r in table if r.unit}):
+    for unit in sorted(units):
+        if foreign_units and unit not in UNITS:
+            out.append(f"    <Unit {_attrs(name=unit)}/>")
+            continue
         display = "".join(f"<DisplayUnit {_attrs(name=n, factor=repr(f))}/>"
                           for n, f in DISPLAY_UNITS.get(unit, ()))
         out.append(f"    <Unit {_attrs(name=unit)}><BaseUnit {_attrs(**unit_exponents(unit))}/>"
                    f"{display}</Unit>")
     out += ["  </UnitDefinitions>", "  <LogCategories>"]
-    out += [f"    <Category {_attrs(name=n, description=d)}/>" for n, d in _LOG_CATEGORIES]
+    out += [f"    <Category {_attrs(name=n, description=d)}/>" for n, d in LOG_CATEGORIES]
     out += ["  </LogCategories>",
             "  <DefaultExperiment " + _attrs(startTime=0.0, stopTime=stop_time,
-                                             tolerance=tolerance) + "/>"]
+                                             tolerance=tolerance, stepSize=step) + "/>"]
     return out
 
 

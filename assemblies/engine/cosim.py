@@ -20,6 +20,7 @@ import ctypes as C
 import math
 import time as wallclock
 import warnings
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -76,6 +77,43 @@ class _CosimStats(C.Structure):  # cosim.h: eng_cosim_stats
                 ("loop_singular", C.c_int), ("loop_failed_time", C.c_double)]
 
 
+@dataclass
+class CouplingPlan:
+    """An assembly's structure as the C master takes it: every variable as (instance
+    index, value reference, is Int32). Shared by a run and by an exported assembly FMU,
+    which hands the same numbers to the same master in its doStep."""
+    index: dict                # instance name -> index
+    fmus: dict                 # instance name -> PreparedFmu
+    pairs: list                # per coupling: (source, target, gain)
+    held: list                 # per coupling: 1 if the FMU holds the input over a step
+    groups: list               # coupling indices per dependency group, sources first
+    loops: list                # the groups that are algebraic loops
+    sweep_order: list          # instance indices, Gauss-Seidel order
+    states: list               # the continuous states the adaptive step estimates on
+
+    def variable(self, instance: str, name: str) -> tuple[int, int, int]:
+        vr, is_int = self.fmus[instance].variable(instance, name)
+        return self.index[instance], vr, int(is_int)
+
+
+def coupling_plan(assembly: Assembly, fmus: dict) -> CouplingPlan:
+    couplings = assembly.couplings()
+    names = list(assembly.components)
+    plan = CouplingPlan({n: i for i, n in enumerate(names)}, fmus, [], [], [], [], [], [])
+    for c in couplings:
+        source, target = plan.variable(*c.source), plan.variable(*c.target)
+        plan.pairs.append((source, target, c.gain))
+        # an input the FMU extrapolates itself (s with its v and a) is set as it is
+        plan.held.append(int(c.target[1] not in fmus[c.target[0]].chained and not target[2]))
+    depends = {n: fmus[n].depends for n in names}
+    inputs = {n: fmus[n].inputs for n in names}
+    plan.groups = coupling_groups(couplings, depends, inputs)
+    plan.loops = [g for g in plan.groups if is_loop(g, couplings, depends, inputs)]
+    plan.sweep_order = [plan.index[n] for n in assembly.order()]
+    plan.states = [plan.variable(n, x) for n in names for x in fmus[n].states]
+    return plan
+
+
 def _lib():
     """The engine library with the cosim entry point's signature declared."""
     lib = library()
@@ -115,7 +153,6 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     started = wallclock.perf_counter()
     couplings = assembly.couplings()
     names = list(assembly.components)
-    index = {n: i for i, n in enumerate(names)}
     fmus = {n: prepared(assembly.components[n]) for n in names}
     fallback = None
     stateless = [n for n in names if not fmus[n].can_get_set_state]
@@ -124,9 +161,11 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         warnings.warn(fallback, FixedStepFallback, stacklevel=2)
         adaptive = event_sync = False
 
+    plan = coupling_plan(assembly, fmus)
+    groups, loops = plan.groups, plan.loops
+
     def var(inst, name) -> Variable:
-        vr, is_int = fmus[inst].variable(inst, name)
-        return Variable(index[inst], vr, int(is_int))
+        return Variable(*plan.variable(inst, name))
 
     keep = Keep()  # every array the spec points into, alive until the call returns
     specs = (InstanceSpec * len(names))(*[
@@ -136,23 +175,17 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
 
     spec = _Spec()
     spec.n_instances, spec.instances = len(names), specs
-    # couplings, their groups (loops) and which inputs the FMUs hold over a step
-    pairs = [(var(*c.source), var(*c.target)) for c in couplings]
     spec.n_couplings = len(couplings)
-    spec.couplings = keep.array(Coupling, [Coupling(s, t, c.gain) for (s, t), c in zip(pairs, couplings)])
-    spec.held = keep.array(C.c_int, [int(c.target[1] not in fmus[c.target[0]].chained
-                                         and not t.is_int) for (_, t), c in zip(pairs, couplings)])
-    depends = {n: fmus[n].depends for n in names}
-    inputs = {n: fmus[n].inputs for n in names}
-    groups = coupling_groups(couplings, depends, inputs)
-    loops = [g for g in groups if is_loop(g, couplings, depends, inputs)]
+    spec.couplings = keep.array(Coupling, [Coupling(Variable(*s), Variable(*t), gain)
+                                           for s, t, gain in plan.pairs])
+    spec.held = keep.array(C.c_int, plan.held)
     spec.n_groups = len(groups)
     spec.group_start = keep.array(C.c_int, np.cumsum([0] + [len(g) for g in groups]).tolist())
     spec.group_members = keep.array(C.c_int, [k for g in groups for k in g])
     spec.group_is_loop = keep.array(C.c_int, [int(g in loops) for g in groups])
-    spec.sweep_order = keep.array(C.c_int, [index[n] for n in assembly.order()])
-    states = [var(n, x) for n in names for x in fmus[n].states]
-    spec.n_states, spec.states = len(states), keep.array(Variable, states)
+    spec.sweep_order = keep.array(C.c_int, plan.sweep_order)
+    spec.n_states = len(plan.states)
+    spec.states = keep.array(Variable, [Variable(*v) for v in plan.states])
     columns = record_columns(fmus, record)
     spec.n_columns, spec.columns = len(columns), keep.array(Variable, [var(i, v) for i, v in columns])
 
@@ -229,4 +262,4 @@ def _failure(stats, cstats, couplings, groups, newton, max_iterations) -> str:
     return f"at t = {cstats.loop_failed_time:g}: {text}"
 
 
-__all__ = ["DEFAULT_SCHEME", "FixedStepFallback", "cosimulate"]
+__all__ = ["DEFAULT_SCHEME", "CouplingPlan", "FixedStepFallback", "coupling_plan", "cosimulate"]

@@ -62,7 +62,6 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
 {
     mf_host h = host(functions);
     mf_interface iface;
-    (void)fmuResourceLocation; /* the FMU has no resources */
     (void)visible;
     if (fmuType == fmi2ModelExchange) {
         iface = MF_MODEL_EXCHANGE;
@@ -78,8 +77,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         return NULL;
     }
     /* the GUID is our instantiation token; mf_create refuses a mismatch */
-    return mf_create(&MF_MODEL, "fmi2Instantiate", instanceName, fmuGUID, iface, loggingOn, 0,
-                     &h);
+    return mf_create(&MF_MODEL, "fmi2Instantiate", instanceName, fmuGUID, fmuResourceLocation,
+                     iface, loggingOn, 0, &h);
 }
 
 void fmi2FreeInstance(fmi2Component c) { mf_free(INST(c)); }

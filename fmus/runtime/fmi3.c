@@ -60,10 +60,9 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String in
                                           fmi3LogMessageCallback logMessage)
 {
     mf_host h = host(instanceEnvironment, logMessage);
-    (void)resourcePath;
     (void)visible;
     return mf_create(&MF_MODEL, "fmi3InstantiateModelExchange", instanceName, instantiationToken,
-                     MF_MODEL_EXCHANGE, loggingOn, 0, &h);
+                     resourcePath, MF_MODEL_EXCHANGE, loggingOn, 0, &h);
 }
 
 fmi3Instance fmi3InstantiateCoSimulation(
@@ -74,14 +73,13 @@ fmi3Instance fmi3InstantiateCoSimulation(
     fmi3LogMessageCallback logMessage, fmi3IntermediateUpdateCallback intermediateUpdate)
 {
     mf_host h = host(instanceEnvironment, logMessage);
-    (void)resourcePath;
     (void)visible;
     h.early_return_allowed = earlyReturnAllowed;
     (void)requiredIntermediateVariables;
     (void)nRequiredIntermediateVariables;
     h.event_callback = (mf_generic_fn)intermediateUpdate;
     return mf_create(&MF_MODEL, "fmi3InstantiateCoSimulation", instanceName, instantiationToken,
-                     MF_CO_SIMULATION, loggingOn, eventModeUsed, &h);
+                     resourcePath, MF_CO_SIMULATION, loggingOn, eventModeUsed, &h);
 }
 
 fmi3Instance fmi3InstantiateScheduledExecution(

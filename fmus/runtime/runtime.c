@@ -455,8 +455,8 @@ static const char *model_defect(const mf_model *m)
 static double *dvec(int n) { return (double *)calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
 
 mf_instance *mf_create(const mf_model *model, const char *fn, const char *instance_name,
-                       const char *token, mf_interface iface, int logging_on,
-                       int event_mode_used, const mf_host *host)
+                       const char *token, const char *resource_location, mf_interface iface,
+                       int logging_on, int event_mode_used, const mf_host *host)
 {
     mf_instance tmp, *I;
     const char *defect;
@@ -464,6 +464,7 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     mf_int sz_arg = 5, sz_res = 2, sz_iw = 0, sz_w = 0;
     int i;
 
+    (void)resource_location; /* a component's FMU carries no resources */
     /* a stack stand-in, so that failures before allocation can be logged alike */
     memset(&tmp, 0, sizeof tmp);
     if (host) tmp.host = *host;

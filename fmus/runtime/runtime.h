@@ -55,10 +55,12 @@ extern const char *const mf_log_categories[MF_N_LOG_CATEGORIES];
 
 /* --- life cycle -------------------------------------------------------- */
 
-/* NULL (after logging why) if the token does not match the model or memory runs out. */
+/* NULL (after logging why) if the token does not match the model or memory runs out.
+   resource_location: as the importer gave it (an FMI 2 URI, an FMI 3 path, or NULL);
+   a component's FMU has no resources, an assembly FMU's members live there. */
 mf_instance *mf_create(const mf_model *model, const char *fn, const char *instance_name,
-                       const char *token, mf_interface iface, int logging_on,
-                       int event_mode_used, const mf_host *host);
+                       const char *token, const char *resource_location, mf_interface iface,
+                       int logging_on, int event_mode_used, const mf_host *host);
 void mf_free(mf_instance *inst);
 mf_status mf_set_debug_logging(mf_instance *inst, const char *fn, int logging_on,
                                size_t n_categories, const char *const categories[]);

@@ -89,7 +89,7 @@ def test_sources_alone_rebuild_the_fmu(version, builder, tmp_path):
         (tmp_path / "cmake").mkdir()
         build_platform_binary(str(unzipped), build_dir=tmp_path / "cmake")
     else:
-        binary = unzipped / "binaries" / build._platform_folder(version) / "SpringBlock.so"
+        binary = unzipped / "binaries" / build.platform_folder(version) / "SpringBlock.so"
         binary.parent.mkdir(parents=True)
         sources = unzipped / "sources"
         config = read_model_description(str(unzipped)).buildConfigurations[0]

@@ -42,6 +42,12 @@ typedef struct {
     double t;
 } snapshot;
 
+/* Step controller of adaptive.py: error per unit step, exponent 1/p. */
+typedef struct {
+    double tol, horizon, h_max, h_min;
+    int order;
+} controller;
+
 struct cosim {
     const eng_cosim_spec *cfg;
     eng_stats *run_stats;
@@ -63,6 +69,12 @@ struct cosim {
     int terminated, terminated_instance;
     double terminated_time;
     double *row;              /* one event row */
+    /* where the stepping stands between two calls of one_step */
+    controller ctl;
+    double t, h;              /* the time reached; the adaptive step to try next */
+    double h_prev;            /* the last accepted step, which ended at t */
+    double located_at;        /* the last start-of-step event moved back to here */
+    int have_prev;            /* snap[1] holds the start of that step: an event may move into it */
 };
 
 /* ---------------------------------------------------------------------------- */
@@ -625,25 +637,26 @@ static int create(cosim *c, const eng_cosim_spec *g)
     return 0;
 }
 
-static int initialise(cosim *c)
+static int enter_initialization(cosim *c, double t0)
 {
     const eng_cosim_spec *g = c->cfg;
     int i;
     for (i = 0; i < g->n_instances; i++)
-        if (fmu_enter_initialization(c->fmus[i], g->tolerance, 0.0, g->stop_time) != FMU_OK)
-            return fmu_fail(c, i, "enter initialization", 0.0);
-    if (consistent(c, 0.0)) return -1;
-    for (i = 0; i < g->n_instances; i++)
-        if (fmu_exit_initialization(c->fmus[i]) != FMU_OK)
-            return fmu_fail(c, i, "exit initialization", 0.0);
-    return consistent(c, 0.0);
+        if (fmu_enter_initialization(c->fmus[i], g->tolerance, t0, g->stop_time) != FMU_OK)
+            return fmu_fail(c, i, "enter initialization", t0);
+    return 0;
 }
 
-/* Step controller of adaptive.py: error per unit step, exponent 1/p. */
-typedef struct {
-    double tol, horizon, h_max, h_min;
-    int order;
-} controller;
+static int exit_initialization(cosim *c, double t0)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int i;
+    if (consistent(c, t0)) return -1;
+    for (i = 0; i < g->n_instances; i++)
+        if (fmu_exit_initialization(c->fmus[i]) != FMU_OK)
+            return fmu_fail(c, i, "exit initialization", t0);
+    return consistent(c, t0);
+}
 
 /* `noise`: what the FMUs' own solvers leave, a floor below which the two runs of
    step doubling cannot agree whatever the step (without it the step would shrink
@@ -692,155 +705,173 @@ static int needs_rollback_capability(cosim *c)
     return 0;
 }
 
-/* The run after initialisation: steps, rows at the output times. */
-static int run(cosim *c, eng_progress *progress)
+static void start_stepping(cosim *c, double t0, double horizon)
 {
     const eng_cosim_spec *g = c->cfg;
-    const int width = 1 + g->n_columns;
+    c->t = t0;
+    c->h_prev = 0.0;
+    c->located_at = -INFINITY;
+    c->have_prev = 0;
+    c->ctl.tol = g->tol;
+    c->ctl.horizon = horizon;
+    c->ctl.h_max = g->step;
+    c->ctl.h_min = 1e-12 * horizon;
+    c->ctl.order = g->extrapolation == 0 ? 1 : 2;
+    c->h = g->adaptive ? g->step / 4 : g->step;
+}
+
+/* One step from c->t towards `target` (never past it): accepted, rejected (c->t stays),
+   or ended at an event. Returns 1 when an event handled at the start of the step was
+   moved back into the previous one (c->t went back), 0 otherwise, -1 on failure. */
+static int one_step(cosim *c, double target)
+{
+    const eng_cosim_spec *g = c->cfg;
     const int rollback = g->adaptive || g->event_sync;
-    const double *out_times = g->times + 1;
-    const long n_out = g->n_times - 1;
-    controller ctl;
-    double t = 0.0, h, h_prev = 0.0, located_at = -INFINITY;
-    long k = 0;
-    int i, have_prev = 0;
+    const double t = c->t, eps_t = 1e-12 * fmax(1.0, fabs(target));
+    double h_try = g->adaptive ? c->h : target - t;
+    int at_event = 0, ok = 1, i;
 
-    if (sample(c, 0.0, g->out)) return -1;
-    c->run_stats->n_rows = 1;
-    if (n_out < 1) return 0;
-    ctl.tol = g->tol;
-    ctl.horizon = out_times[n_out - 1];
-    ctl.h_max = g->step;
-    ctl.h_min = 1e-12 * ctl.horizon;
-    ctl.order = g->extrapolation == 0 ? 1 : 2;
-    h = g->adaptive ? g->step / 4 : g->step;
+    /* no sliver before an output point: stretch the step up to 25 % to reach it,
+       unless the step was just rejected at that length */
+    if (g->adaptive && (t + h_try > target
+                        || (target - (t + h_try) < 0.25 * h_try && !c->rejected_last)))
+        h_try = target - t;
 
-    while (k < n_out) {
-        double target = out_times[k], h_try, eps_t = 1e-12 * fmax(1.0, fabs(target));
-        int at_event = 0, ok = 1;
-
-        if (t >= target - eps_t || c->terminated) {
-            if (sample(c, c->terminated ? t : target, g->out + (size_t)(k + 1) * (size_t)width))
-                return -1;
-            k++;
-            c->run_stats->n_rows = k + 1;
-            c->run_stats->t_end = t;
-            if (c->terminated) break;
-            if (eng_progress_check(progress, t)) {
-                c->run_stats->status = ENG_STOPPED;
-                break;
-            }
-            continue;
-        }
-        h_try = g->adaptive ? h : target - t;
-        /* no sliver before an output point: stretch the step up to 25 % to reach it,
-           unless the step was just rejected at that length */
-        if (g->adaptive && (t + h_try > target
-                            || (target - (t + h_try) < 0.25 * h_try && !c->rejected_last)))
-            h_try = target - t;
-
-        if (rollback && save(c, &c->snap[0], t)) return -1;
-        for (;;) { /* the (coarse) step, shortened to end at the first event inside it */
-            double te;
-            if (step(c, t, h_try)) return -1;
-            if (!g->event_sync) break;
-            if (any_event_at_start(c) && t > located_at) {
-                double t_event;
-                for (i = 0; i < g->n_instances; i++) c->which[i] = c->inst[i].event_at_start;
-                if (g->extrapolation && !c->hold_raw) {
-                    /* an extrapolated held input runs ahead of its source (it is the mean
-                       over the coming step): if the sources' own values at t do not fire
-                       the event, it is premature, and the step is redone holding them */
-                    int fires;
-                    if (restore(c, &c->snap[0])
-                        || fires_at_start(c, c->which, t, probe_step(t), &fires))
-                        return -1;
-                    if (!fires) {
-                        c->hold_raw = 1;
-                        continue;
-                    }
-                }
-                if (!have_prev) { /* at the start of the run: nothing to go back into */
-                    located_at = t;
-                    if (restore(c, &c->snap[0])) return -1;
+    if (rollback && save(c, &c->snap[0], t)) return -1;
+    for (;;) { /* the (coarse) step, shortened to end at the first event inside it */
+        double te;
+        if (step(c, t, h_try)) return -1;
+        if (!g->event_sync) break;
+        if (any_event_at_start(c) && t > c->located_at) {
+            double t_event;
+            for (i = 0; i < g->n_instances; i++) c->which[i] = c->inst[i].event_at_start;
+            if (g->extrapolation && !c->hold_raw) {
+                /* an extrapolated held input runs ahead of its source (it is the mean
+                   over the coming step): if the sources' own values at t do not fire
+                   the event, it is premature, and the step is redone holding them */
+                int fires;
+                if (restore(c, &c->snap[0])
+                    || fires_at_start(c, c->which, t, probe_step(t), &fires))
+                    return -1;
+                if (!fires) {
+                    c->hold_raw = 1;
                     continue;
                 }
-                if (locate_start_event(c, &c->snap[1], h_prev, c->which, &t_event)) return -1;
-                located_at = t = t_event;
-                h_prev = t_event - c->snap[1].t;
-                /* rows sampled after the event's new time are sampled again */
-                while (k > 0 && out_times[k - 1] > t + 1e-12 * fmax(1.0, fabs(t))) k--;
-                c->run_stats->n_rows = k + 1;
-                ok = -1; /* go round: the next step starts at the located event */
-                break;
             }
-            te = earliest_event_in_step(c);
-            if (!at_event && te - t > g->event_tol && te < t + h_try) {
-                double margin = fmin(g->event_tol, 0.5 * (t + h_try - te));
+            if (!c->have_prev) { /* nothing to go back into: the event stays at t */
+                c->located_at = t;
                 if (restore(c, &c->snap[0])) return -1;
-                h_try = te - t + margin;
-                at_event = 1;
-                c->stats->events_synchronised++;
                 continue;
             }
-            break;
-        }
-        if (ok < 0) {
+            if (locate_start_event(c, &c->snap[1], c->h_prev, c->which, &t_event)) return -1;
+            c->located_at = c->t = t_event;
+            c->h_prev = t_event - c->snap[1].t;
             c->hold_raw = 0;
+            return 1; /* the next step starts at the located event */
+        }
+        te = earliest_event_in_step(c);
+        if (!at_event && te - t > g->event_tol && te < t + h_try) {
+            double margin = fmin(g->event_tol, 0.5 * (t + h_try - te));
+            if (restore(c, &c->snap[0])) return -1;
+            h_try = te - t + margin;
+            at_event = 1;
+            c->stats->events_synchronised++;
             continue;
         }
+        break;
+    }
 
-        if (g->adaptive) {
-            double error = 0.0, noise = 0.0, h_next;
-            int j;
-            if (state_vector(c, c->coarse, t) || restore(c, &c->snap[0])) return -1;
-            if (step(c, t, h_try / 2)) return -1;
-            if (!c->terminated && step(c, t + h_try / 2, h_try / 2)) return -1;
-            if (c->terminated) { /* the model ended the run: keep what it did */
-                t = c->terminated_time;
-                continue;
-            }
-            if (g->event_sync && any_event_at_start(c) && t + h_try / 2 > located_at) {
-                /* an event fired where the two half steps meet: the coupled system
-                   crossed inside the first half. Keep the first half alone (the error
-                   of the whole step is the event's, not the coupling's); the next
-                   step fires the event at its start and moves it back there. */
-                if (restore(c, &c->snap[0]) || step(c, t, h_try / 2)) return -1;
-                h_try /= 2;
-                h = h_try;
-                c->run_stats->steps++;
-                ok = 1;
-            } else {
+    if (g->adaptive) {
+        double error = 0.0, noise = 0.0, h_next;
+        int j;
+        if (state_vector(c, c->coarse, t) || restore(c, &c->snap[0])) return -1;
+        if (step(c, t, h_try / 2)) return -1;
+        if (!c->terminated && step(c, t + h_try / 2, h_try / 2)) return -1;
+        if (c->terminated) { /* the model ended the run: keep what it did */
+            c->t = c->terminated_time;
+            return 0;
+        }
+        if (g->event_sync && any_event_at_start(c) && t + h_try / 2 > c->located_at) {
+            /* an event fired where the two half steps meet: the coupled system
+               crossed inside the first half. Keep the first half alone (the error
+               of the whole step is the event's, not the coupling's); the next
+               step fires the event at its start and moves it back there. */
+            if (restore(c, &c->snap[0]) || step(c, t, h_try / 2)) return -1;
+            h_try /= 2;
+            c->h = h_try;
+            c->run_stats->steps++;
+            ok = 1;
+        } else {
             if (state_vector(c, c->state, t)) return -1;
             for (j = 0; j < g->n_states; j++) {
                 error = fmax(error, fabs(c->state[j] - c->coarse[j]));
                 noise = fmax(noise, g->tolerance * (1.0 + fabs(c->state[j])));
             }
-            error /= (double)((1 << ctl.order) - 1);
-            ok = judge(c, &ctl, error, noise, h_try, &h_next);
+            error /= (double)((1 << c->ctl.order) - 1);
+            ok = judge(c, &c->ctl, error, noise, h_try, &h_next);
             if (!ok && restore(c, &c->snap[0])) return -1;
-            h = h_next;
-            if (h < ctl.h_min)
+            c->h = h_next;
+            if (c->h < c->ctl.h_min)
                 return fail(c, "adaptive step fell below %.3g s at t = %g (tol %g cannot be met)",
-                            ctl.h_min, t, g->tol);
-            }
-        } else {
-            c->run_stats->steps++;
+                            c->ctl.h_min, t, g->tol);
         }
-        c->hold_raw = 0;
-        if (c->terminated) { /* a fixed step's row keeps its time, as in the reference */
-            t = target;
+    } else {
+        c->run_stats->steps++;
+    }
+    c->hold_raw = 0;
+    if (c->terminated) { /* a fixed step's row keeps its time, as in the reference */
+        c->t = target;
+        return 0;
+    }
+    if (ok) {
+        c->stats->h_min = fmin(c->stats->h_min, h_try);
+        c->stats->h_max = fmax(c->stats->h_max, h_try);
+        c->t = fabs(target - (t + h_try)) < eps_t ? target : t + h_try;
+        if (rollback) {
+            swap_snapshots(c); /* the step's start becomes the previous step's */
+            c->h_prev = h_try;
+            c->have_prev = 1;
+        }
+    }
+    return 0;
+}
+
+/* The run after initialisation: steps, rows at the output times. */
+static int run(cosim *c, eng_progress *progress)
+{
+    const eng_cosim_spec *g = c->cfg;
+    const int width = 1 + g->n_columns;
+    const double *out_times = g->times + 1;
+    const long n_out = g->n_times - 1;
+    long k = 0;
+
+    if (sample(c, 0.0, g->out)) return -1;
+    c->run_stats->n_rows = 1;
+    if (n_out < 1) return 0;
+    start_stepping(c, 0.0, out_times[n_out - 1]);
+
+    while (k < n_out) {
+        double target = out_times[k];
+        int moved;
+        if (c->t >= target - 1e-12 * fmax(1.0, fabs(target)) || c->terminated) {
+            if (sample(c, c->terminated ? c->t : target,
+                       g->out + (size_t)(k + 1) * (size_t)width))
+                return -1;
+            k++;
+            c->run_stats->n_rows = k + 1;
+            c->run_stats->t_end = c->t;
+            if (c->terminated) break;
+            if (eng_progress_check(progress, c->t)) {
+                c->run_stats->status = ENG_STOPPED;
+                break;
+            }
             continue;
         }
-        if (ok) {
-            c->stats->h_min = fmin(c->stats->h_min, h_try);
-            c->stats->h_max = fmax(c->stats->h_max, h_try);
-            t = fabs(target - (t + h_try)) < eps_t ? target : t + h_try;
-            if (rollback) {
-                swap_snapshots(c); /* the step's start becomes the previous step's */
-                h_prev = h_try;
-                have_prev = 1;
-            }
+        moved = one_step(c, target);
+        if (moved < 0) return -1;
+        if (moved) { /* rows sampled after the event's new time are sampled again */
+            while (k > 0 && out_times[k - 1] > c->t + 1e-12 * fmax(1.0, fabs(c->t))) k--;
+            c->run_stats->n_rows = k + 1;
         }
     }
     return 0;
@@ -886,7 +917,8 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
     if (spec->n_times < 1) {
         fail(&c, "no output times");
         stats->status = ENG_FAILED;
-    } else if (create(&c, spec) || needs_rollback_capability(&c) || initialise(&c)
+    } else if (create(&c, spec) || needs_rollback_capability(&c)
+               || enter_initialization(&c, 0.0) || exit_initialization(&c, 0.0)
                || run(&c, &progress)) {
         stats->status = ENG_FAILED;
     } else if (c.terminated) {
@@ -898,4 +930,97 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
     if (cosim_stats->h_max == 0.0) cosim_stats->h_min = NAN, cosim_stats->h_max = NAN;
     destroy(&c);
     return c.run;
+}
+
+/* ---------------------------------------------------------------------------- */
+/* the master one communication step at a time: an assembly FMU's doStep          */
+
+struct eng_cosim {
+    cosim c;
+    eng_stats stats;
+    eng_cosim_stats cosim_stats;
+    double t0;
+};
+
+eng_cosim *eng_cosim_create(const eng_cosim_spec *spec)
+{
+    eng_cosim *m = (eng_cosim *)calloc(1, sizeof *m);
+    if (!m) return NULL;
+    m->stats.terminated_by = -1;
+    m->cosim_stats.loop_failed_group = -1;
+    m->cosim_stats.h_min = INFINITY;
+    m->c.cfg = spec;
+    m->c.run_stats = &m->stats;
+    m->c.stats = &m->cosim_stats;
+    if (create(&m->c, spec) || needs_rollback_capability(&m->c)) m->stats.status = ENG_FAILED;
+    return m;
+}
+
+int eng_cosim_enter_initialization(eng_cosim *m, double start_time)
+{
+    if (m->stats.status == ENG_FAILED) return ENG_FAILED;
+    m->t0 = start_time;
+    if (enter_initialization(&m->c, start_time)) return m->stats.status = ENG_FAILED;
+    return 0;
+}
+
+int eng_cosim_exit_initialization(eng_cosim *m)
+{
+    if (m->stats.status == ENG_FAILED) return ENG_FAILED;
+    if (exit_initialization(&m->c, m->t0)) return m->stats.status = ENG_FAILED;
+    /* the step controller spreads its error budget over the experiment's length */
+    start_stepping(&m->c, m->t0, fmax(m->c.cfg->stop_time - m->t0, m->c.cfg->step));
+    return 0;
+}
+
+/* Events are moved back only within the call: what the importer read at earlier
+   communication points stays as it was. An event whose coupled crossing lies in the
+   last step before `target` is found by a probe at `target` and moved back before
+   the call returns, so that a step boundary does not delay it. */
+int eng_cosim_advance(eng_cosim *m, double target)
+{
+    cosim *c = &m->c;
+    const double eps_t = 1e-12 * fmax(1.0, fabs(target));
+    if (m->stats.status == ENG_FAILED) return ENG_FAILED;
+    c->have_prev = 0;
+    while (!c->terminated) {
+        if (c->t < target - eps_t) {
+            if (one_step(c, target) < 0) return m->stats.status = ENG_FAILED;
+            continue;
+        }
+        if (c->cfg->event_sync && c->have_prev && c->t > c->located_at) {
+            int i, fires;
+            double t_event;
+            for (i = 0; i < c->cfg->n_instances; i++) c->which[i] = 1;
+            if (fires_at_start(c, c->which, c->t, probe_step(c->t), &fires))
+                return m->stats.status = ENG_FAILED;
+            if (fires) {
+                if (locate_start_event(c, &c->snap[1], c->h_prev, c->which, &t_event))
+                    return m->stats.status = ENG_FAILED;
+                c->located_at = c->t = t_event;
+                c->h_prev = t_event - c->snap[1].t;
+                continue;
+            }
+        }
+        break;
+    }
+    return 0;
+}
+
+int eng_cosim_failed(const eng_cosim *m) { return m->stats.status == ENG_FAILED; }
+
+double eng_cosim_time(const eng_cosim *m) { return m->c.t; }
+
+int eng_cosim_terminated(const eng_cosim *m) { return m->c.terminated; }
+
+fmu_t *eng_cosim_member(eng_cosim *m, int i) { return m->c.fmus ? m->c.fmus[i] : NULL; }
+
+const char *eng_cosim_message(const eng_cosim *m) { return m->stats.message; }
+
+void eng_cosim_free(eng_cosim *m)
+{
+    if (!m) return;
+    destroy(&m->c);
+    eng_run_free(m->c.run);
+    free(m);
 }

@@ -36,6 +36,7 @@
 #define MECHFMU_ENGINE_COSIM_H
 
 #include "engine.h"
+#include "fmu.h"
 
 enum { ENG_JACOBI = 0, ENG_GAUSS_SEIDEL = 1 };
 
@@ -90,5 +91,25 @@ typedef struct {
    (eng_run_events, eng_run_free); NULL only when memory for them runs out. */
 ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
                                 eng_cosim_stats *cosim_stats);
+
+/* The same master one communication step at a time, for an FMU that runs an assembly
+   in its doStep (assembly_runtime.c). The spec must outlive the handle; its output
+   fields (times, out) are not used. Every call returns 0 or ENG_FAILED, after which
+   eng_cosim_message says why in one line. */
+typedef struct eng_cosim eng_cosim;
+
+/* Loads the members with their start values. NULL only when memory runs out; a
+   failure to load is reported by the first call that follows. */
+eng_cosim *eng_cosim_create(const eng_cosim_spec *spec);
+int eng_cosim_enter_initialization(eng_cosim *m, double start_time);
+int eng_cosim_exit_initialization(eng_cosim *m);
+/* Steps until `target`, or until a member ends the simulation (eng_cosim_terminated). */
+int eng_cosim_advance(eng_cosim *m, double target);
+int eng_cosim_failed(const eng_cosim *m);
+double eng_cosim_time(const eng_cosim *m);
+int eng_cosim_terminated(const eng_cosim *m);
+fmu_t *eng_cosim_member(eng_cosim *m, int i);
+const char *eng_cosim_message(const eng_cosim *m);
+void eng_cosim_free(eng_cosim *m);
 
 #endif

@@ -17,7 +17,11 @@
 
 #include <stdint.h>
 
+/* The entry points Python calls; an assembly FMU, which links the engine for its own
+   use, builds with -DENG_API= so that it exports its FMI functions alone. */
+#ifndef ENG_API
 #define ENG_API __attribute__((visibility("default")))
+#endif
 
 /* A variable of an instance: a recorded column, an output kept at events. */
 typedef struct {

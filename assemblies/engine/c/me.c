@@ -19,6 +19,7 @@
 #include "engine.h"
 #include "events.h"
 #include "instances.h"
+#include "me.h"
 #include "output.h"
 #include "solver.h"
 #include "solver_implicit.h"
@@ -58,6 +59,9 @@ typedef struct {
     double t_next;
     int terminate;        /* an instance asked to end the run */
     double *x_before;     /* the states before an event's jumps */
+    double t;             /* the time reached */
+    double h_initial;     /* the first step the solver tries */
+    int inputs_changed;   /* an importer set a member's input since the last step */
     /* why the last call failed; the run's error if it cannot go on (inside a step the
        solver may still recover by trying a shorter one) */
     char message[sizeof(((eng_stats *)0)->message)];
@@ -438,41 +442,60 @@ static int completed_step(me_master *M, double t, int *step_event)
     return 0;
 }
 
-static int initialize(me_master *M)
+static int instantiate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
-    int i, k, bad;
+    int i;
     for (i = 0; i < M->n; i++) {
         M->fmus[i] = eng_instantiate(&s->instances[i], FMU_MODEL_EXCHANGE, NULL, NULL, 0,
                                      M->message, sizeof M->message);
         if (M->fmus[i] == NULL) return -1;
     }
-    for (i = 0; i < M->n; i++)
-        if (fmu_enter_initialization(M->fmus[i], s->tolerance, 0.0, s->stop_time))
-            return failed(M, i, "entering initialization", 0.0);
-    for (k = 0; k < M->n; k++) /* settles any loop-free chain of outputs */
-        if (eng_propagate(M->fmus, s->couplings, s->n_couplings, NULL, &bad))
-            return failed(M, bad, "evaluating the couplings", 0.0);
-    for (i = 0; i < M->n; i++) {
-        if (fmu_exit_initialization(M->fmus[i]))
-            return failed(M, i, "leaving initialization", 0.0);
-        if (fmu_get_nominals(M->fmus[i], M->nominals + M->x_off[i],
-                             (size_t)(M->x_off[i + 1] - M->x_off[i])))
-            return failed(M, i, "getting the nominal values of the states", 0.0);
-    }
-    /* both FMI versions: an ME FMU is in event mode now; settle it like any event */
-    clear_groups(M);
-    if (event_iteration(M, 0.0, 1)) return -1;
-    if (indicators_at(M, 0.0, M->x, M->z_prev)) return -1;
     return 0;
 }
 
-static int integrate(me_master *M)
+static int enter_initialization(me_master *M, double t0)
+{
+    int i;
+    M->t = t0;
+    for (i = 0; i < M->n; i++)
+        if (fmu_enter_initialization(M->fmus[i], M->spec->tolerance, t0, M->spec->stop_time))
+            return failed(M, i, "entering initialization", t0);
+    return 0;
+}
+
+static int exit_initialization(me_master *M)
 {
     const eng_me_spec *s = M->spec;
-    const double stop = s->stop_time;
-    double t = 0.0;
-    double h_initial = s->n_times > 1 ? s->times[1] - s->times[0] : stop / 100.0;
+    const double t0 = M->t;
+    int i, k, bad;
+    for (k = 0; k < M->n; k++) /* settles any loop-free chain of outputs */
+        if (eng_propagate(M->fmus, s->couplings, s->n_couplings, NULL, &bad))
+            return failed(M, bad, "evaluating the couplings", t0);
+    for (i = 0; i < M->n; i++) {
+        if (fmu_exit_initialization(M->fmus[i]))
+            return failed(M, i, "leaving initialization", t0);
+        if (fmu_get_nominals(M->fmus[i], M->nominals + M->x_off[i],
+                             (size_t)(M->x_off[i + 1] - M->x_off[i])))
+            return failed(M, i, "getting the nominal values of the states", t0);
+    }
+    /* both FMI versions: an ME FMU is in event mode now; settle it like any event */
+    clear_groups(M);
+    if (event_iteration(M, t0, 1)) return -1;
+    if (indicators_at(M, t0, M->x, M->z_prev)) return -1;
+    return 0;
+}
+
+static int initialize(me_master *M)
+{
+    return instantiate(M) || enter_initialization(M, 0.0) || exit_initialization(M);
+}
+
+/* Integrates from M->t to `target` (or until an instance ends the run). 1: the progress
+   callback stopped it, 0: done, -1: failed. */
+static int advance(me_master *M, double target, eng_progress *progress)
+{
+    const eng_me_spec *s = M->spec;
     /* No step longer than spec->max_step (Python gives the output interval where an
        indicator can move while the states stand still: through another FMU's outputs,
        or with time). While a contact sticks the states are constant and the steps grow
@@ -481,28 +504,31 @@ static int integrate(me_master *M)
        points still come from the dense output; no step is made to end on one. Without
        indicators there is nothing to miss, and the solver steps freely. */
     const double h_max = s->max_step > 0 && M->n_z > 0 ? s->max_step : INFINITY;
-    eng_progress progress;
+    double t = M->t;
 
-    eng_progress_start(&progress, s->progress, s->progress_ctx);
-    if (emit_until(M, 0.0, 1, 0)) return -1;
-    if (M->terminate) {
-        M->stats->status = ENG_TERMINATED;
-        return 0;
+    if (M->inputs_changed) { /* an input set from outside may switch a mode: an event now */
+        M->inputs_changed = 0;
+        clear_groups(M);
+        if (handle_event(M, t)) return -1;
     }
-    while (t < stop) {
-        double bound = M->next_defined && M->t_next < stop ? M->t_next : stop;
+    /* an importer's communication points carry round-off (0.5 + 0.1 against 6 * 0.1):
+       a sliver short of the target is the target, not a step of 1e-16 s */
+    const double eps_t = 1e-12 * fmax(1.0, fabs(target));
+
+    while (t < target - eps_t && !M->terminate) {
+        double bound = M->next_defined && M->t_next < target ? M->t_next : target;
         double t_old = t, t_event;
         int found, step_event;
         if (t >= bound) { /* a time event is due now */
             clear_groups(M);
             if (handle_event(M, t)) return -1;
-            if (M->terminate) break;
             continue;
         }
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
         bound = fmin(bound, t + h_max);
-        if (step(M, &t, bound, h_initial)) return -1;
+        if (step(M, &t, bound, M->h_initial)) return -1;
+        M->t = t;
         M->stats->steps++;
         if (indicators_at(M, t, M->x, M->z_now)) return -1;
         found = mf_locate_event(indicators_inside, M, M->n_z, t_old, M->z_prev, t, M->z_now,
@@ -516,7 +542,7 @@ static int integrate(me_master *M)
         if (found) {
             if (emit_until(M, t_event, 0, 1)) return -1;
             dense(M, t_event, M->x);
-            t = t_event;
+            M->t = t = t_event;
             mark_groups(M, M->z_hit);
             if (completed_step(M, t, &step_event)) return -1;
             if (handle_event(M, t)) return -1;
@@ -530,13 +556,31 @@ static int integrate(me_master *M)
             }
         }
         M->stats->t_end = t;
-        if (M->terminate) break;
-        if (eng_progress_check(&progress, t)) {
+        if (!M->terminate && eng_progress_check(progress, t)) return 1;
+    }
+    if (!M->terminate && t < target) M->t = t = target;
+    M->stats->t_end = t;
+    /* the instances stand at the point reached: their outputs are read from there */
+    return set_point(M, t, M->x);
+}
+
+static int integrate(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    eng_progress progress;
+    int r;
+
+    M->h_initial = s->n_times > 1 ? s->times[1] - s->times[0] : s->stop_time / 100.0;
+    eng_progress_start(&progress, s->progress, s->progress_ctx);
+    if (emit_until(M, 0.0, 1, 0)) return -1;
+    if (!M->terminate) {
+        r = advance(M, s->stop_time, &progress);
+        if (r < 0) return -1;
+        if (r == 1) {
             M->stats->status = ENG_STOPPED;
             return 0;
         }
     }
-    M->stats->t_end = t;
     if (M->terminate) M->stats->status = ENG_TERMINATED;
     return 0;
 }
@@ -714,4 +758,146 @@ oom:
     stats->status = ENG_FAILED;
     snprintf(stats->message, sizeof stats->message, "out of memory");
     return NULL;
+}
+
+/* ---------------------------------------------------------------------------- */
+/* the master one communication step at a time: an assembly FMU's doStep          */
+
+struct eng_me {
+    me_master M;
+    eng_stats stats;
+    eng_progress progress; /* no callback: never stops a step */
+    int failed;
+};
+
+static int me_failed(eng_me *m)
+{
+    m->failed = 1;
+    snprintf(m->stats.message, sizeof m->stats.message, "%s", m->M.message);
+    return ENG_FAILED;
+}
+
+eng_me *eng_me_create(const eng_me_spec *spec)
+{
+    eng_me *m = (eng_me *)calloc(1, sizeof *m);
+    const char *defect;
+    if (!m) return NULL;
+    m->stats.terminated_by = -1;
+    m->M.spec = spec;
+    m->M.stats = &m->stats;
+    eng_progress_start(&m->progress, NULL, NULL);
+    m->M.run = eng_run_new(0, NULL);
+    defect = spec_defect(spec);
+    if (defect) {
+        snprintf(m->M.message, sizeof m->M.message, "%s", defect);
+        me_failed(m);
+    } else if (!m->M.run || allocate(&m->M)) {
+        snprintf(m->M.message, sizeof m->M.message, "out of memory");
+        me_failed(m);
+    } else if (instantiate(&m->M)) {
+        me_failed(m);
+    }
+    m->M.h_initial = spec->stop_time / 100.0;
+    return m;
+}
+
+int eng_me_failed(const eng_me *m) { return m->failed; }
+
+int eng_me_enter_initialization(eng_me *m, double start_time)
+{
+    if (m->failed) return ENG_FAILED;
+    return enter_initialization(&m->M, start_time) ? me_failed(m) : 0;
+}
+
+int eng_me_exit_initialization(eng_me *m)
+{
+    if (m->failed) return ENG_FAILED;
+    return exit_initialization(&m->M) ? me_failed(m) : 0;
+}
+
+void eng_me_inputs_changed(eng_me *m) { m->M.inputs_changed = 1; }
+
+int eng_me_advance(eng_me *m, double target)
+{
+    if (m->failed) return ENG_FAILED;
+    /* the first step tried: about the communication step (the solver adapts from there) */
+    if (target > m->M.t) m->M.h_initial = target - m->M.t;
+    return advance(&m->M, target, &m->progress) < 0 ? me_failed(m) : 0;
+}
+
+double eng_me_time(const eng_me *m) { return m->M.t; }
+
+int eng_me_terminated(const eng_me *m) { return m->M.terminate; }
+
+fmu_t *eng_me_member(eng_me *m, int i) { return m->M.fmus ? m->M.fmus[i] : NULL; }
+
+const char *eng_me_message(const eng_me *m) { return m->stats.message; }
+
+void eng_me_free(eng_me *m)
+{
+    if (!m) return;
+    release(&m->M); /* what allocate got: every pointer starts NULL */
+    eng_run_free(m->M.run);
+    free(m);
+}
+
+/* --- the coupled members as one Model Exchange FMU: the importer integrates ------- */
+
+int eng_me_number_of_states(const eng_me *m) { return m->M.n_x; }
+
+int eng_me_number_of_indicators(const eng_me *m) { return m->M.n_z; }
+
+void eng_me_set_time(eng_me *m, double t) { m->M.t = t; }
+
+void eng_me_set_states(eng_me *m, const double *x)
+{
+    if (m->M.n_x) memcpy(m->M.x, x, (size_t)m->M.n_x * sizeof(double));
+}
+
+void eng_me_get_states(const eng_me *m, double *x)
+{
+    if (m->M.n_x) memcpy(x, m->M.x, (size_t)m->M.n_x * sizeof(double));
+}
+
+void eng_me_get_nominals(const eng_me *m, double *nominals)
+{
+    if (m->M.n_x) memcpy(nominals, m->M.nominals, (size_t)m->M.n_x * sizeof(double));
+}
+
+/* The members at the importer's (t, x), couplings evaluated: their outputs are current. */
+int eng_me_sync(eng_me *m)
+{
+    if (m->failed) return ENG_FAILED;
+    return set_point(&m->M, m->M.t, m->M.x) ? me_failed(m) : 0;
+}
+
+int eng_me_derivatives(eng_me *m, double *dx)
+{
+    if (m->failed) return ENG_FAILED;
+    return rhs(&m->M, m->M.t, m->M.x, dx) ? me_failed(m) : 0;
+}
+
+int eng_me_indicators(eng_me *m, double *z)
+{
+    if (m->failed) return ENG_FAILED;
+    return indicators_at(&m->M, m->M.t, m->M.x, z) ? me_failed(m) : 0;
+}
+
+/* An event at the importer's (t, x): the members' event iteration through the
+   couplings, as the engine's own integrator runs it. *states_changed: x jumped. */
+int eng_me_event_update(eng_me *m, int *states_changed)
+{
+    me_master *M = &m->M;
+    if (m->failed) return ENG_FAILED;
+    if (M->n_x) memcpy(M->x_before, M->x, (size_t)M->n_x * sizeof(double));
+    clear_groups(M);
+    if (event_iteration(M, M->t, 0)) return me_failed(m);
+    *states_changed = M->n_x && memcmp(M->x_before, M->x, (size_t)M->n_x * sizeof(double)) != 0;
+    return 0;
+}
+
+int eng_me_completed_step(eng_me *m, int *enter_event_mode)
+{
+    if (m->failed) return ENG_FAILED;
+    return completed_step(&m->M, m->M.t, enter_event_mode) ? me_failed(m) : 0;
 }

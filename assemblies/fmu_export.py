@@ -1,0 +1,384 @@
+"""An assembly as one FMU: any importer runs it as a single FMU.
+
+The exported FMU carries its member FMUs (ours and foreign, extracted) in
+``resources/<instance>/`` and, in ``resources/assembly.txt``, the same description of
+the coupling that a run hands the compiled engine (:func:`assemblies.engine.cosim.
+coupling_plan`): its ``doStep`` runs one of the engine's masters over the members for
+one communication step, so the FMU computes what ``cosimulate`` (mode 'cosim') or
+``simulate_me`` (mode 'me') computes with the same settings. In mode 'cosim' only events
+whose coupled crossing falls in the last internal step before a communication point are
+located by a probe at that point rather than by the next step (the importer has already
+read the outputs there). In mode 'me' the FMU is a Model Exchange FMU too: the members'
+stacked states and indicators are its own.
+
+Its interface is the members' unconnected inputs (start values as the assembly has
+them) and the outputs chosen at export, named ``<instance>.<variable>`` with the members'
+units; value reference 0 is time. The binary is one generic library, compiled once per
+FMI version and machine from the engine's sources and the shared FMI adapters
+(``fmus/runtime/fmi2.c``, ``fmi3.c``) over ``assemblies/engine/fmu/assembly_runtime.c``.
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import shutil
+import tempfile
+import warnings
+import zipfile
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+from fmpy import read_model_description
+
+from fmus.build import (CFLAGS, FMI_HEADERS, RUNTIME_DIR, platform_folder, cache_dir,
+                        compile_library)
+from fmus.model_description import FMI_VERSIONS, GENERATION_TOOL, shared_head
+
+from .assembly import Assembly, AssemblyError
+from .engine.build import C_DIR, SHARED_RUNTIME
+from .engine.cosim import DEFAULT_SCHEME, EVENT_TOL, coupling_plan
+from .engine.me import EVENT_SUBSAMPLES, METHODS, step_limit_needed
+from .masters.me import coupling_order
+from .engine.prepare import prepared, record_columns
+from .experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
+                         fixed_step_fallback)
+from .foreign import FMU, check_mode
+
+FMU_C_DIR = Path(__file__).parent / "engine" / "fmu"
+# the engine's files the FMU links: its two masters and what they stand on
+ENGINE_FILES = ("cosim", "me", "fmu", "instances", "output")
+# the members' variable types the interface passes on (the engine reads Float64/Int32)
+_TYPES = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Integer"}
+
+
+def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
+               outputs: list[str] | None = None, stop_time: float = 10.0, step: float = 0.01,
+               tolerance: float = 1e-8, mode: str | None = None, scheme: str = "jacobi",
+               method: str = "DOPRI5", **settings) -> Path:
+    """Write `assembly` as one Co-Simulation FMU (FMI `fmi` = 2 or 3) to `path`.
+
+    `outputs`: the members' variables the FMU exposes (``"block.x"``; default every
+    output of every member). `stop_time` and `step` become its default experiment.
+    `mode` is the master its doStep runs, as a run from Python would:
+
+    - ``"cosim"`` (the default, unless a member is Model Exchange only): the members'
+      Co-Simulation interfaces, `tolerance` for their own solvers, `scheme` and
+      ``**settings`` (extrapolation, adaptive, tol, event_sync, loop_tolerance,
+      max_loop_iterations, newton) as in ``cosimulate``, by default
+      :data:`DEFAULT_SCHEME` (what a friction assembly needs to be right). A member that
+      cannot roll back makes it fixed steps of `step`, with a :class:`FixedStepFallback`
+      warning, as a run does.
+    - ``"me"``: the members' Model Exchange interfaces in the engine's one integrator
+      (`method`, `tolerance`), as ``simulate_me``; an input set from outside starts the
+      next step with an event.
+
+    Returns the path written.
+    """
+    if fmi not in FMI_VERSIONS:
+        raise AssemblyError(f"export_fmu: fmi must be 2 or 3, not {fmi!r}")
+    foreign = {n: c for n, c in assembly.components.items() if isinstance(c, FMU)}
+    if mode is None:
+        mode = "me" if any("cosim" not in c.modes_supported() for c in foreign.values()) else "cosim"
+    if mode not in ("cosim", "me"):
+        raise AssemblyError(f"export_fmu: mode must be 'cosim' or 'me', not {mode!r}")
+    try:
+        check_mode(assembly, mode)
+    except AssemblyError as exc:
+        raise AssemblyError(f"export_fmu: {exc}") from None
+    unknown = set(settings) - {"extrapolation", "adaptive", "tol", "event_sync",
+                               "loop_tolerance", "max_loop_iterations", "newton"}
+    if unknown:
+        raise AssemblyError(f"export_fmu: unknown setting(s) {', '.join(sorted(unknown))}")
+    if mode == "me" and settings:
+        raise AssemblyError(f"export_fmu: {', '.join(sorted(settings))} set(s) the co-simulation "
+                            "master; mode 'me' integrates and takes `method` and `tolerance`")
+    if method not in METHODS:
+        raise AssemblyError(f"export_fmu: method must be one of {', '.join(METHODS)}, not {method!r}")
+    s = {**DEFAULT_SCHEME, "loop_tolerance": 1e-10, "max_loop_iterations": 20, "newton": True,
+         **settings}
+    s.setdefault("event_sync", bool(s["adaptive"]))
+    check_experiment(stop_time, step, tolerance)
+    check_cosim_settings(scheme, s["extrapolation"], s["adaptive"], s["tol"])
+
+    assembly.signals_from_outside = True  # open signal inputs become the FMU's inputs
+    try:
+        couplings = assembly.couplings()  # resolves the profiles: which FMU each component is
+        names = list(assembly.components)
+        fmus = {n: prepared(assembly.components[n]) for n in names}
+        stateless = [n for n in names if not fmus[n].can_get_set_state]
+        if mode == "cosim" and (s["adaptive"] or s["event_sync"]) and stateless:
+            warnings.warn(fixed_step_fallback(s["adaptive"], stateless, step), FixedStepFallback,
+                          stacklevel=2)
+            s["adaptive"] = s["event_sync"] = False
+        for n in names:
+            if re.search(r"\s", fmus[n].token) or re.search(r"[\s/\\]", n):
+                raise AssemblyError(f"export_fmu: instance '{n}' has a name or instantiation "
+                                    "token with whitespace or a path separator")
+        plan = coupling_plan(assembly, fmus)
+        if mode == "me":  # the integrator evaluates the couplings by dependency level
+            # (the co-simulation's groups, sweep and held inputs travel along unused)
+            plan.pairs = [(plan.variable(*c.source), plan.variable(*c.target), c.gain)
+                          for c in coupling_order(couplings, fmus)]
+            # an input set from outside moves indicators while the states stand still,
+            # as a time-dependent one does (and the joined model has no open inputs)
+            fed = {c.target for c in couplings}
+            open_inputs = any((n, i) not in fed for n in names for i in fmus[n].inputs)
+            s["max_step"] = step if open_inputs or step_limit_needed(assembly) else 0.0
+    finally:
+        assembly.signals_from_outside = False
+    s.update(mode=mode, method=METHODS[method])
+    ports = _interface(assembly, fmus, plan, outputs, mode, fmi)
+    config = _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s)
+    token = _token(config)
+    identifier = re.sub(r"\W", "_", assembly.name) or "assembly"
+    if identifier[0].isdigit():
+        identifier = "_" + identifier
+    xml = _model_description(assembly, identifier, token, ports, fmi, stop_time, step, mode,
+                             sum(f.n_event_indicators for f in fmus.values()))
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = path.with_name(path.name + f".{os.getpid()}.partial")
+    with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("modelDescription.xml", xml)
+        zf.write(library(fmi), f"binaries/{platform_folder(fmi)}/{identifier}.so")
+        zf.writestr("resources/assembly.txt", config.replace("@TOKEN@", token))
+        for n in names:
+            root = Path(fmus[n].unzip_dir)
+            for file in sorted(root.rglob("*")):
+                if file.is_file():
+                    zf.write(file, f"resources/{n}/{file.relative_to(root).as_posix()}")
+    partial.replace(path)
+    return path
+
+
+def _interface(assembly, fmus, plan, outputs, mode, fmi) -> list[dict]:
+    """The FMU's variables: unconnected member inputs, the chosen outputs and, for a Model
+    Exchange interface (mode 'me'), the members' continuous states with their derivatives
+    (in the order the engine stacks them) and, in FMI 3, the event indicators."""
+    coupled = {(target[0], target[1]) for _, target, _ in plan.pairs}
+    described = {n: read_model_description(fmus[n].path, validate=False) for n in fmus}
+    variables = {n: {v.name: v for v in md.modelVariables} for n, md in described.items()}
+    ports, by_name = [], {}
+
+    def add(instance, name, causality, derivative_of=None):
+        full = f"{instance}.{name}" if derivative_of is None else f"der({derivative_of})"
+        if full in by_name:  # a state that is also a chosen output is one variable
+            return by_name[full]
+        v = variables[instance][name]
+        kind = _TYPES.get(v.type)
+        if kind is None:
+            raise AssemblyError(f"export_fmu: {instance}.{name} is of type {v.type}; the "
+                                "assembly FMU passes on Float64/Real and Int32/Integer only")
+        inst, vr, is_int = plan.variable(instance, name)
+        start = None
+        if causality == "input":
+            own = {**assembly.components[instance].values, **assembly.components[instance].starts}
+            start = own.get(name, v.start)
+            if start is None:
+                start = 0
+        port = dict(name=full, causality=causality, kind=kind,
+                    unit=v.unit or (v.declaredType.unit if v.declaredType else None),
+                    description=v.description, start=start, member=(inst, vr, is_int),
+                    derivative_of=derivative_of)
+        ports.append(port)
+        by_name[full] = port
+        return port
+
+    for instance in fmus:
+        for name in fmus[instance].inputs:
+            if (plan.index[instance], plan.variable(instance, name)[1]) not in coupled:
+                add(instance, name, "input")
+    for instance, name in record_columns(fmus, outputs):
+        add(instance, name, "output")
+    if mode == "me":
+        for instance, md in described.items():
+            for u in md.derivatives:
+                state = add(instance, u.variable.derivative.name, "local")
+                state["state"] = True
+                add(instance, u.variable.name, "local", derivative_of=state["name"])
+        if fmi == 3:  # FMI 3 names each event indicator as a variable
+            k = 0
+            for instance, fmu in fmus.items():
+                for j in range(fmu.n_event_indicators):
+                    port = dict(name=f"{instance}.event_indicator[{j + 1}]", causality="indicator",
+                                kind="Real", unit=None, start=None, member=(0, k, 0),
+                                description=f"event indicator {j + 1} of {instance}",
+                                derivative_of=None)
+                    ports.append(port)
+                    k += 1
+    for vr, port in enumerate(ports, start=1):
+        port["vr"] = vr
+    return ports
+
+
+def _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s) -> str:
+    """resources/assembly.txt (its format: assemblies/engine/fmu/assembly_config.c)."""
+    def var(v):
+        return f"{v[0]} {v[1]} {v[2]}"
+
+    lines = ["mechfmu-assembly 1", "token @TOKEN@", f"mode {s['mode']}",
+             "settings " + " ".join(repr(x) for x in (
+                 float(stop_time), float(tolerance), float(step))) + " " + " ".join(str(x) for x in (
+                 0 if scheme == "jacobi" else 1, int(s["extrapolation"]), int(bool(s["adaptive"])),
+                 repr(float(s["tol"])), repr(float(s["loop_tolerance"])),
+                 int(s["max_loop_iterations"]), int(bool(s["newton"])),
+                 int(bool(s["event_sync"])), repr(EVENT_TOL), s["method"], EVENT_SUBSAMPLES,
+                 repr(float(s.get("max_step", 0.0))))),
+             f"instances {len(fmus)}"]
+    for n, fmu in fmus.items():
+        starts = {**assembly.components[n].values, **assembly.components[n].starts}
+        floats = [(fmu.variable(n, k)[0], float(v)) for k, v in starts.items()
+                  if not fmu.variable(n, k)[1]]
+        ints = [(fmu.variable(n, k)[0], int(v)) for k, v in starts.items() if fmu.variable(n, k)[1]]
+        lines.append(" ".join(str(x) for x in (
+            "instance", n, fmu.me_identifier if s["mode"] == "me" else fmu.cs_identifier, fmu.token, fmu.fmi_version, fmu.n_states,
+            fmu.n_event_indicators, int(fmu.can_get_set_state),
+            int(fmu.provides_directional_derivative), len(floats),
+            *(f"{vr} {v!r}" for vr, v in floats), len(ints), *(f"{vr} {v}" for vr, v in ints))))
+    lines.append(f"couplings {len(plan.pairs)}")
+    lines += [f"coupling {var(src)} {var(tgt)} {float(gain)!r} {held}"
+              for (src, tgt, gain), held in zip(plan.pairs, plan.held)]
+    lines.append(f"groups {len(plan.groups)}")
+    lines += [f"group {int(g in plan.loops)} {len(g)} " + " ".join(map(str, g)) for g in plan.groups]
+    lines.append("sweep " + " ".join(map(str, plan.sweep_order)))
+    lines.append(f"states {len(plan.states)} " + " ".join(var(v) for v in plan.states))
+    lines.append(f"ports {len(ports)}")
+    lines += [f"port {p['vr']} {p['causality']} {var(p['member'])}" for p in ports]  # local, indicator too
+    lines.append("end")
+    return "\n".join(lines) + "\n"
+
+
+def _token(config: str) -> str:
+    d = hashlib.sha256(config.encode()).hexdigest()
+    return "{%s-%s-%s-%s-%s}" % (d[:8], d[8:12], d[12:16], d[16:20], d[20:32])
+
+
+def _a(**kw) -> str:
+    return " ".join(f"{k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
+
+
+def _model_description(assembly, identifier, token, ports, fmi, stop_time, step, mode,
+                       n_indicators) -> str:
+    """modelDescription.xml: Co-Simulation always; Model Exchange too in mode 'me'."""
+    units = {p["unit"] for p in ports if p["unit"]} | {"s"}
+    head = shared_head(units, stop_time, step=step, foreign_units=True)
+    description = (f"mechfmu assembly '{assembly.name}': {len(assembly.components)} member FMUs "
+                   f"({', '.join(assembly.components)}) run by the engine's "
+                   f"{'one integrator' if mode == 'me' else 'co-simulation master'}")
+    outputs = [p for p in ports if p["causality"] == "output"]
+    derivatives = [p for p in ports if p["derivative_of"]]
+    states = [p for p in ports if p.get("state")]
+    indicators = [p for p in ports if p["causality"] == "indicator"]
+    unknowns = sorted(outputs + states + derivatives, key=lambda p: p["vr"])
+    me = mode == "me"
+    by_name = {p["name"]: p for p in ports}
+
+    def declared(p):  # local for states and derivatives and indicators, as FMI names them
+        causality = "local" if p["causality"] == "indicator" else p["causality"]
+        initial = "calculated" if causality == "local" or p.get("state") and causality == "output" else None
+        return causality, initial
+
+    if fmi == 2:
+        out = ["<?xml version=\"1.0\" encoding=\"UTF-8\"?>",
+               "<fmiModelDescription " + _a(fmiVersion="2.0", modelName=assembly.name, guid=token,
+                                            description=description,
+                                            generationTool=GENERATION_TOOL,
+                                            variableNamingConvention="structured",
+                                            numberOfEventIndicators=n_indicators if me else 0) + ">"]
+        if me:
+            out.append("  <ModelExchange " + _a(modelIdentifier=identifier,
+                                                canNotUseMemoryManagementFunctions="true") + "/>")
+        out += ["  <CoSimulation " + _a(modelIdentifier=identifier,
+                                        canHandleVariableCommunicationStepSize="true",
+                                        canNotUseMemoryManagementFunctions="true") + "/>",
+                *head, "  <ModelVariables>",
+                "    <ScalarVariable " + _a(name="time", valueReference=0, causality="independent",
+                                            variability="continuous",
+                                            description="simulation time") + "><Real unit=\"s\"/>"
+                "</ScalarVariable>"]
+        index = {p["vr"]: i + 2 for i, p in enumerate(ports)}  # 1-based, time first
+        for p in ports:
+            causality, initial = declared(p)
+            derivative = index[by_name[p["derivative_of"]]["vr"]] if p["derivative_of"] else None
+            typed = _a(start=p["start"], unit=p["unit"] if p["kind"] == "Real" else None,
+                       derivative=derivative)
+            out.append("    <ScalarVariable " + _a(
+                name=p["name"], valueReference=p["vr"], causality=causality,
+                variability="continuous" if p["kind"] == "Real" else "discrete", initial=initial,
+                description=p["description"]) + f"><{p['kind']} {typed}/></ScalarVariable>")
+        out += ["  </ModelVariables>", "  <ModelStructure>"]
+        for element, rows in (("Outputs", outputs), ("Derivatives", derivatives),
+                              ("InitialUnknowns", unknowns)):
+            if rows:
+                out += [f"    <{element}>",
+                        *(f"      <Unknown index=\"{index[p['vr']]}\"/>" for p in rows),
+                        f"    </{element}>"]
+        out += ["  </ModelStructure>", "</fmiModelDescription>"]
+        return "\n".join(out) + "\n"
+    out = ["<?xml version=\"1.0\" encoding=\"UTF-8\"?>",
+           "<fmiModelDescription " + _a(fmiVersion="3.0", modelName=assembly.name,
+                                        instantiationToken=token, description=description,
+                                        generationTool=GENERATION_TOOL,
+                                        variableNamingConvention="structured") + ">"]
+    if me:
+        out.append("  <ModelExchange " + _a(modelIdentifier=identifier,
+                                            canGetAndSetFMUState="false",
+                                            canSerializeFMUState="false") + "/>")
+    out += ["  <CoSimulation " + _a(modelIdentifier=identifier,
+                                    canHandleVariableCommunicationStepSize="true",
+                                    canGetAndSetFMUState="false", canSerializeFMUState="false",
+                                    providesDirectionalDerivative="false",
+                                    hasEventMode="false") + "/>",
+            *head, "  <ModelVariables>",
+            "    <Float64 " + _a(name="time", valueReference=0, causality="independent",
+                                 variability="continuous", description="simulation time",
+                                 unit="s") + "/>"]
+    for p in ports:
+        tag = "Float64" if p["kind"] == "Real" else "Int32"
+        causality, initial = declared(p)
+        derivative = by_name[p["derivative_of"]]["vr"] if p["derivative_of"] else None
+        out.append(f"    <{tag} " + _a(
+            name=p["name"], valueReference=p["vr"], causality=causality,
+            variability="continuous" if tag == "Float64" else "discrete", initial=initial,
+            description=p["description"], start=p["start"],
+            unit=p["unit"] if tag == "Float64" else None, derivative=derivative) + "/>")
+    out += ["  </ModelVariables>", "  <ModelStructure>",
+            *(f"    <Output valueReference=\"{p['vr']}\"/>" for p in outputs),
+            *(f"    <ContinuousStateDerivative valueReference=\"{p['vr']}\"/>" for p in derivatives),
+            *(f"    <InitialUnknown valueReference=\"{p['vr']}\"/>" for p in unknowns),
+            *(f"    <EventIndicator valueReference=\"{p['vr']}\"/>" for p in indicators),
+            "  </ModelStructure>", "</fmiModelDescription>"]
+    return "\n".join(out) + "\n"
+
+
+def _sources(fmi: int) -> list[Path]:
+    engine = [C_DIR / f"{name}.{ext}" for name in ENGINE_FILES for ext in ("c", "h")]
+    engine.append(C_DIR / "engine.h")
+    runtime = [RUNTIME_DIR / f"fmi{fmi}.c", RUNTIME_DIR / "runtime.h", RUNTIME_DIR / "model.h"]
+    runtime += [RUNTIME_DIR / f"{name}.{ext}" for name in SHARED_RUNTIME for ext in ("c", "h")]
+    return sorted(FMU_C_DIR.glob("*.[ch]")) + engine + runtime
+
+
+def library(fmi: int) -> Path:
+    """The assembly FMU's binary for FMI `fmi`, built now if these sources never were
+    here: the same library serves every assembly (what differs is in resources/)."""
+    h = hashlib.sha256()
+    for p in _sources(fmi):
+        h.update(p.name.encode() + b"\0" + p.read_bytes() + b"\0")
+    h.update(" ".join(CFLAGS).encode())
+    target = cache_dir() / "assembly" / f"assembly-fmi{fmi}-{h.hexdigest()[:16]}.so"
+    if not target.exists():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(prefix="mechfmu-assembly-") as tmp:
+            partial = Path(tmp) / "assembly.so"
+            compile_library([p for p in _sources(fmi) if p.suffix == ".c"], partial,
+                            [FMU_C_DIR, C_DIR, RUNTIME_DIR, FMI_HEADERS], "the assembly FMU",
+                            defines=["ENG_API="])
+            shutil.copyfile(partial, target.with_suffix(f".{os.getpid()}.partial"))
+            target.with_suffix(f".{os.getpid()}.partial").replace(target)  # atomic
+    return target
+
+
+__all__ = ["export_fmu"]
