@@ -36,6 +36,10 @@ def _cmd_components(args) -> int:
 
 def _cmd_scenes(args) -> int:
     from assemblies.scenes import SCENES
+    if args.markdown:
+        from assemblies.scenes.listing import markdown_table
+        print(markdown_table())
+        return 0
     for name, sc in SCENES.items():
         print(f"{name:<18} {sc.description}")
     return 0
@@ -127,7 +131,10 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="mechfmu", description="Mechanical components as FMUs.")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("components", help="list the components").set_defaults(fn=_cmd_components)
-    sub.add_parser("scenes", help="list the scenes").set_defaults(fn=_cmd_scenes)
+    scenes = sub.add_parser("scenes", help="list the scenes")
+    scenes.add_argument("--markdown", action="store_true",
+                        help="README's table: scene, seed section(s), references")
+    scenes.set_defaults(fn=_cmd_scenes)
     b = sub.add_parser("build", help="build one component into an FMU")
     b.add_argument("component")
     b.add_argument("-o", "--output", required=True, help="the .fmu file to write")

@@ -7,6 +7,7 @@ from .dae import FlatModel, flatten
 from .interfaces import ComponentError, Parameter, Port, Profile, State
 from .axle import RigidBodyOnAxle
 from .beam import AssumedModesBeam
+from .dissipation import NutationDamperBody
 from .force_sources import ConstantForce, Force
 from .motion_sources import HarmonicMotion, SineMotion
 from .rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
@@ -21,13 +22,13 @@ from .translational import MassWithFriction, Spring, SpringDamper
 COMPONENTS = {cls.__name__: cls for cls in (
     SpringBlock, ConstantSpeed, SineMotion, HarmonicMotion, ConstantForce, AssumedModesBeam,
     RigidBodyOnAxle, InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin,
-    TorqueFreeBody, WobblingDisk, Skate, MassWithFriction, Spring, SpringDamper, TorsionalSpring,
-    Motor, Force, Position, Speed, PositionSensor, SpeedSensor, ForceSensor)}
+    TorqueFreeBody, NutationDamperBody, WobblingDisk, Skate, MassWithFriction, Spring,
+    SpringDamper, TorsionalSpring, Motor, Force, Position, Speed, PositionSensor, SpeedSensor, ForceSensor)}
 
 __all__ = ["AssumedModesBeam", "Block", "COMPONENTS", "Component", "ComponentError",
            "ConstantForce", "ConstantSpeed", "FlatModel", "Force", "ForceSensor",
            "HarmonicMotion", "SineMotion", "HemisphericalShell", "InclinedCylinder",
-           "MassWithFriction", "Motor", "Parameter", "Port", "Position", "PositionSensor",
-           "Profile", "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Speed",
+           "MassWithFriction", "Motor", "NutationDamperBody", "Parameter", "Port", "Position",
+           "PositionSensor", "Profile", "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Speed",
            "SpeedSensor", "Spring", "SpringBlock", "SpringDamper", "State", "TorsionalSpring",
            "TorqueFreeBody", "WobblingDisk", "flatten"]

@@ -6,7 +6,19 @@ import casadi as ca
 from .component import Component
 from .interfaces import Constraint, Parameter, Profile, State
 
-_FREE = (Profile("free", "no connectors: released from its start values"),)
+FREE = (Profile("free", "no connectors: released from its start values"),)
+# what every body given by principal moments and an attitude quaternion declares
+PRINCIPAL_INERTIAS = (
+    Constraint(lambda p: p.I_xx + p.I_yy - p.I_zz, "I_zz <= I_xx + I_yy (triangle inequality)"),
+    Constraint(lambda p: p.I_yy + p.I_zz - p.I_xx, "I_xx <= I_yy + I_zz (triangle inequality)"),
+    Constraint(lambda p: p.I_zz + p.I_xx - p.I_yy, "I_yy <= I_zz + I_xx (triangle inequality)"),
+)
+ATTITUDE = (
+    State("q0", 1.0, "1", "attitude quaternion, scalar part"),
+    State("q1", 0.0, "1", "attitude quaternion, x part"),
+    State("q2", 0.0, "1", "attitude quaternion, y part"),
+    State("q3", 0.0, "1", "attitude quaternion, z part"),
+)
 
 
 def quaternion_rotation(q0, q1, q2, q3):
@@ -46,21 +58,14 @@ class TorqueFreeBody(Component):
         Parameter("I_zz", 3.0, "kg.m2", "principal moment of inertia about body z",
                   min=0.0, min_strict=True),
     )
-    constraints = (
-        Constraint(lambda p: p.I_xx + p.I_yy - p.I_zz, "I_zz <= I_xx + I_yy (triangle inequality)"),
-        Constraint(lambda p: p.I_yy + p.I_zz - p.I_xx, "I_xx <= I_yy + I_zz (triangle inequality)"),
-        Constraint(lambda p: p.I_zz + p.I_xx - p.I_yy, "I_yy <= I_zz + I_xx (triangle inequality)"),
-    )
+    constraints = PRINCIPAL_INERTIAS
     states = (
-        State("q0", 1.0, "1", "attitude quaternion, scalar part"),
-        State("q1", 0.0, "1", "attitude quaternion, x part"),
-        State("q2", 0.0, "1", "attitude quaternion, y part"),
-        State("q3", 0.0, "1", "attitude quaternion, z part"),
+        *ATTITUDE,
         State("w_x", 0.01, "rad/s", "angular velocity about body x"),
         State("w_y", 1.0, "rad/s", "angular velocity about body y"),
         State("w_z", 0.0, "rad/s", "angular velocity about body z"),
     )
-    profiles = _FREE
+    profiles = FREE
     default_stop_time = 20.0
 
     def equations(self, e):
@@ -118,7 +123,7 @@ class WobblingDisk(Component):
         State("theta_dot", 0.0, "rad/s", "rate of theta"),
         State("psi_dot", -0.99875, "rad/s", "rate of psi"),
     )
-    profiles = _FREE
+    profiles = FREE
 
     def equations(self, e):
         s, d = e.x, e.der
@@ -170,7 +175,7 @@ class Skate(Component):
               State("v_x", 1.0, "m/s", "velocity of G, x part"),
               State("v_y", -0.5, "m/s", "velocity of G, y part (Eq. 5.19 with the other starts)"),
               State("omega", 1.0, "rad/s", "turning rate theta'"))
-    profiles = _FREE
+    profiles = FREE
     default_stop_time = 20.0
 
     def equations(self, e):

@@ -81,7 +81,8 @@ AXLE_SCENES: dict[str, Scene] = {
         "axle_pendulum", "seed 8.5: disk on an inclined axle through its rim, released from rest",
         _axle_pendulum, stop_time=15.0, step=0.01, tolerance=1e-10,
         record=["body.theta", "body.omega", "body.E", "body.G_z"],
-        figures=_axle_pendulum_figures, plot=["body.theta", "body.omega"]),
+        figures=_axle_pendulum_figures, plot=["body.theta", "body.omega"], seed="8.5",
+        reference="ω0 = sqrt(4g/7R); period 4K(sin(θ0/2))/ω0; energy"),
 }
 
 __all__ = ["AXLE_SCENES", "pendulum_period", "period_from_crossings", "seed_disk",

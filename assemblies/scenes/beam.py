@@ -153,12 +153,14 @@ BEAM_SCENES: dict[str, Scene] = {
         "seed 7.5: cantilever released from its static shape under a tip load, undamped",
         _free_vibration, stop_time=40.0, step=0.02, tolerance=1e-10,
         record=None,  # every output: the frequency is read off the coordinates, however many
-        figures=_free_vibration_figures, plot=["beam.w_tip", "beam.slope_tip", "beam.E"]),
+        figures=_free_vibration_figures, plot=["beam.w_tip", "beam.slope_tip", "beam.E"],
+        seed="7.5", reference="ω1 of the discretised and the exact beam"),
     "beam_tip_force": Scene(
         "beam_tip_force", "seed 7.5: damped cantilever settling under a constant tip force",
         _tip_force, stop_time=20.0, step=0.05, tolerance=1e-10,
         record=["beam.w_tip", "beam.slope_tip", "beam.E", "load.flange.f"],
-        figures=_tip_force_figures, plot=["beam.w_tip", "beam.E"]),
+        figures=_tip_force_figures, plot=["beam.w_tip", "beam.E"], seed="7.5",
+        reference="static deflection F L³/(3EI)"),
 }
 
 __all__ = ["BEAM_SCENES", "cantilever_frequencies", "discretisation_error"]

@@ -221,28 +221,33 @@ COIN_SCENES: dict[str, Scene] = {
         "coin_rolling", "seed ch. 6: a coin rolling without slip from a given state",
         _coin_rolling, stop_time=10.0, step=0.01, tolerance=1e-12,
         record=_record("coin", COIN_OUTPUTS), figures=_conservation_figures,
-        plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin),
+        plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin,
+        seed="6", reference="energy and contact-point speed"),
     "coin_upright": Scene(
         "coin_upright", "seed ch. 6: straight upright rolling at 1.1 x the critical speed",
         _coin_upright, stop_time=20.0, step=0.01, tolerance=1e-12,
         record=_record("coin", COIN_OUTPUTS), figures=_coin_upright_figures,
-        plot=["coin.lean", "coin.phi_dot", "coin.E"], picture=plot_coin),
+        plot=["coin.lean", "coin.phi_dot", "coin.E"], picture=plot_coin,
+        seed="6", reference="critical speed sqrt(gR/3); energy and contact-point speed"),
     "coin_circle": Scene(
         "coin_circle", "seed ch. 6: steady circular rolling at a 30 degree lean",
         _coin_circle, stop_time=10.0, step=0.01, tolerance=1e-12,
         record=_record("coin", COIN_OUTPUTS), figures=_coin_circle_figures,
-        plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin),
+        plot=["coin.lean", "coin.N", "coin.E"], picture=plot_coin,
+        seed="6", reference="steady lean; energy and contact-point speed"),
     "torque_free_flip": Scene(
         "torque_free_flip", "seed 8.3: spin about the intermediate axis turns the body over",
         _torque_free_flip, stop_time=30.0, step=0.01, tolerance=1e-12,
         record=_record("body", ["w_x", "w_y", "w_z", "H", "T", "H_X", "H_Y", "H_Z", "x_X", "x_Y",
                                 "x_Z"]),
-        figures=_torque_free_flip_figures, plot=["body.w_x", "body.w_y", "body.w_z"]),
+        figures=_torque_free_flip_figures, plot=["body.w_x", "body.w_y", "body.w_z"], seed="8.3",
+        reference="growth rate about the intermediate axis; |H| and T conserved"),
     "skate": Scene(
         "skate", "seed 5.5: skate with a knife edge on ice, its heading settles",
         _skate, stop_time=20.0, step=0.01, tolerance=1e-12,
         record=_record("skate", ["x", "y", "theta", "omega", "u", "lambda", "E", "constraint"]),
-        figures=_skate_figures, plot=["skate.theta", "skate.omega", "skate.u"]),
+        figures=_skate_figures, plot=["skate.theta", "skate.omega", "skate.u"], seed="5.5",
+        reference="settled heading; energy and Eq. 5.19 conserved"),
 }
 
 __all__ = ["COIN_SCENES", "contact_circle_radius", "fitted_circle_radius", "skate_heading_to_go",

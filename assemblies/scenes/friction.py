@@ -79,10 +79,13 @@ FRICTION_SCENES: dict[str, Scene] = {
         "stick_slip", "seed 9.2: block pulled through a spring at constant speed, stick-slip",
         _stick_slip, stop_time=40.0, step=0.1, tolerance=1e-10,
         record=["block.x", "block.v", "block.f_friction", "block.mode", "driver.flange.s"],
-        figures=_stick_slip_figures, plot=["block.x", "block.v", "block.f_friction"]),
+        figures=_stick_slip_figures, plot=["block.x", "block.v", "block.f_friction"],
+        seed="9.2, Eq. 9.4",
+        reference="t1 = 8, t2 = 12.0689, x(t2) = 0.40344 (closed form)"),
     "friction_damping": Scene(
         "friction_damping", "seed 9.4: free vibration with dry friction, amplitudes fall linearly",
         _friction_damping, stop_time=20.0, step=0.1, tolerance=1e-10,
         record=["block.x", "block.v", "block.f_friction", "block.mode"],
-        figures=_friction_damping_figures, plot=["block.x", "block.v"]),
+        figures=_friction_damping_figures, plot=["block.x", "block.v"], seed="9.4",
+        reference="turning points 6.55, −5.35, 4.15, −2.95, 1.75, −0.55 at t = 0, π, …, 5π"),
 }

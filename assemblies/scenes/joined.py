@@ -325,7 +325,8 @@ JOINED_SCENES: dict[str, Scene] = {
         _two_block_belt, stop_time=300.0, step=0.1, tolerance=1e-10,
         record=["block1.s", "block1.v", "block1.mode", "block1.f_friction",
                 "block2.s", "block2.v", "block2.mode", "block2.f_friction", "coupling.f"],
-        figures=_two_block_belt_figures, plot=["block1.s", "block2.s", "block1.v", "block2.v"]),
+        figures=_two_block_belt_figures, plot=["block1.s", "block2.s", "block1.v", "block2.v"],
+        seed="9.2", reference="first slip time, final stretch"),
     "axle_motor": Scene(
         "axle_motor", "seed 8.5's disk with Coulomb bearing friction, lifted by a DC motor "
         "through a torsional spring until it stalls",
@@ -333,12 +334,15 @@ JOINED_SCENES: dict[str, Scene] = {
         record=["body.theta", "body.omega", "body.mode", "body.E", "body.tau_bearing",
                 "motor.phi", "motor.w", "motor.W", "motor.E", "shaft.phi_rel", "shaft.E",
                 "shaft.P_loss"],
-        figures=_axle_motor_figures, plot=["body.theta", "motor.phi", "shaft.phi_rel"]),
+        figures=_axle_motor_figures, plot=["body.theta", "motor.phi", "shaft.phi_rel"], seed="8.5",
+        reference="motor work = stored energy + losses"),
     "beam_friction_damper": Scene(
         "beam_friction_damper", "cantilever released from a tip deflection, its tip rubbing "
         "on a spring-loaded friction pad (Jenkins element) until the pad sticks for good",
         _beam_friction_damper, stop_time=30.0, step=0.0125, tolerance=1e-10,
         record=["beam.w_tip", "beam.E", "pad.x", "pad.v", "pad.mode", "pad.f_spring",
                 "pad.f_friction"],
-        figures=_beam_friction_damper_figures, plot=["beam.w_tip", "pad.x", "pad.f_spring"]),
+        figures=_beam_friction_damper_figures, plot=["beam.w_tip", "pad.x", "pad.f_spring"],
+        seed="7.5, 9.2", reference="beam energy lost = friction work; once the pad sticks for "
+        "good, the beam-with-tip-spring frequency"),
 }

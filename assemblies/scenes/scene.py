@@ -76,6 +76,8 @@ class Scene:
     plot: list[str] = field(default_factory=list)
     picture: Callable[[Result, str, Path], None] | None = None  # replaces the panel plot
     mode: str = "cosim"  # the master a run uses when none is asked for (cosim, me, monolithic)
+    seed: str = ""       # the seed's section(s) the scene reproduces, as README's table shows them
+    reference: str = ""  # the independent references its figures are held to, in a line
 
 
 __all__ = ["DRIFT", "Figure", "Scene", "solver_accuracy"]

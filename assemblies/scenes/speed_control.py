@@ -111,7 +111,10 @@ SPEED_CONTROL_SCENES: dict[str, Scene] = {
         "sliding on a rough floor at 1 m/s",
         _speed_control, stop_time=25.0, step=0.01, tolerance=1e-10,
         record=["block.v_abs", "block.f_friction", "block.mode", "ctrl.f", "ctrl.I"],
-        figures=_speed_control_figures, plot=["block.v_abs", "ctrl.f"], mode="me"),
+        figures=_speed_control_figures, plot=["block.v_abs", "ctrl.f"], mode="me",
+        seed="—", reference="a foreign PI controller FMU (CasADi, FMI 3 ME; mode `me`) holding "
+        "a sliding block at 1 m/s: the loop m e'' + k e' + (k/Ti) e = 0 solved by hand, its "
+        "overshoot peak; steady state v = v_ref, controller force = μk m g"),
 }
 
 __all__ = ["SPEED_CONTROL_SCENES", "loop_parameters"]

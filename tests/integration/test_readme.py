@@ -15,3 +15,29 @@ def test_python_example_runs(tmp_path, monkeypatch):
     assert (tmp_path / "block.fmu").exists()
     res = namespace["res"]
     assert "block.x" in res.columns and len(res["time"]) > 10
+
+
+def test_scene_table_is_the_registrys():
+    """README's scene table is generated (`mechfmu scenes --markdown`): a scene added,
+    renamed or re-described without regenerating it fails here. Regenerate with
+    `python -m assemblies.scenes.listing README.md`."""
+    from assemblies.scenes import SCENES
+    from assemblies.scenes.listing import markdown_table, readme_table
+    table = readme_table(README.read_text())
+    assert table, "README.md has lost the marker line of the generated scene table"
+    assert table == markdown_table(), (
+        "README's scene table is out of date: run `python -m assemblies.scenes.listing README.md`")
+    assert len(table.splitlines()) == 2 + len(SCENES)
+
+
+def test_scene_table_rewrites_a_stale_copy(tmp_path):
+    from assemblies.scenes.listing import MARKER, markdown_table, readme_table, rewrite
+    stale = tmp_path / "README.md"
+    stale.write_text(f"# x\n\n{MARKER}\n| scene | seed | reference |\n| --- | --- | --- |\n"
+                     "| `gone` | 1.1 | nothing |\n\nafter\n")
+    assert rewrite(stale) and not rewrite(stale)
+    text = stale.read_text()
+    assert readme_table(text) == markdown_table() and text.endswith("\n\nafter\n")
+    bare = tmp_path / "BARE.md"
+    bare.write_text(f"{MARKER}\nafter\n")
+    assert rewrite(bare) and bare.read_text() == f"{MARKER}\n{markdown_table()}\nafter\n"

@@ -1,0 +1,594 @@
+"""Seed 9.2, 9.3 and 9.5 as scenes: steady sliding, stick-slip with a dashpot and with the
+smooth law (Fig. 9.4), the distinguished limit, and resonance (Figs. 9.6, 9.7).
+
+Every block is :class:`SpringBlock` or a chain of :class:`MassWithFriction`, each driven
+through its own source (a connection joins exactly two ports). The references are
+derived in :mod:`.friction_references` without the library's models; the pictures are
+in :mod:`.friction_seed_plot`.
+
+The resonance scenes run exact Coulomb friction. The seed's Figs. 9.6 and 9.7 solve
+Eq. 9.10, mu tanh(v / 0.001), which drops the factor 3 of Eq. 9.7: that is SpringBlock's
+``tanh`` law with eps = 0.003 (``--param block.friction=tanh --param block.eps=0.003``);
+its growth is the same 0.118, its turning points are not exact Coulomb's, so the figures
+fail under it.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.interpolate import CubicHermiteSpline
+
+from components.motion_sources import SineMotion
+from components.sources import ConstantSpeed
+from components.spring_block import SpringBlock
+from components.translational import MassWithFriction, Spring
+
+from ..assembly import Assembly
+from ..result import Result
+from .friction_references import (DrivenCoulombBlock, chain_first_slip, damped_first_slip,
+                                  damped_stick_slip,
+                                  half_period_turning_points, perturbation_decay_rate,
+                                  resonance_growth_rate, richardson_bound, slide_ends,
+                                  sliding_perturbation, smooth_law_peak, smooth_slip_bracket,
+                                  steady_sliding_lag, two_halves_rear_slip)
+from .friction_seed_plot import (plot_distinguished_limit, plot_resonance, plot_smooth,
+                                 plot_sliding)
+from .references import stick_slip_first_cycle
+from .scene import Figure, Scene
+
+SEED = dict(m=1.0, k=1.0, g=1.0)          # chapter 9's units
+DRAG = dict(mu_k=0.3, mu_s=0.4)           # Eq. 9.4
+SPEED = 0.05                              # Eq. 9.4's driven end [m/s]
+
+
+# --- what a run promises ---------------------------------------------------------------
+def _tolerance(result: Result, drive_omega: float | None = None) -> float:
+    """The relative error a run controls: its solvers' tolerance. Co-simulating a block
+    driven along a sine of angular frequency `drive_omega`, the drive's motion is
+    extrapolated over each communication step (to second order, with v and a), so the
+    coupling errs too: by the adaptive steps' tolerance, or with fixed steps h by
+    (omega h)^3 / 6 of the amplitude per step. A constant-speed drive is extrapolated
+    exactly and adds nothing."""
+    s = result.settings
+    tol = s["tolerance"]
+    if drive_omega is not None and s.get("scheme") in ("jacobi", "gauss-seidel"):
+        tol = max(tol, s["tol"] if s.get("adaptive") else (drive_omega * s["step"]) ** 3 / 6)
+    return tol
+
+
+def _accuracy(result: Result, scale: float = 1.0, factor: float = 100.0,
+              drive_omega: float | None = None) -> float:
+    """As :func:`.scene.solver_accuracy` (100 x the tolerance: event times and states at
+    events), with the coupling's error where a sine drive is co-simulated."""
+    return factor * _tolerance(result, drive_omega) * max(1.0, abs(scale))
+
+
+def _held_input_delay(result: Result) -> float:
+    """How late a co-simulated FMU may see an input that it holds over fixed steps
+    (extrapolation 0): one step. Extrapolated linearly (or adaptive, which extrapolates
+    by default) a ramp such as a spring pulled at constant speed is exact."""
+    s = result.settings
+    held = (s.get("scheme") in ("jacobi", "gauss-seidel") and not s.get("adaptive")
+            and not s.get("extrapolation"))
+    return s["step"] if held else 0.0
+
+
+def mode_changes(result: Result, instance: str) -> list[tuple[float, float, int, int]]:
+    """(t, x, mode before, mode after) at each event that changed the friction mode."""
+    if instance not in result.events:
+        return []
+    ev, previous, out = result.events[instance], int(result[f"{instance}.mode"][0]), []
+    for t, x, mode in zip(ev["time"], ev[f"{instance}.x"], ev[f"{instance}.mode"]):
+        if int(mode) != previous:
+            out.append((float(t), float(x), previous, int(mode)))
+            previous = int(mode)
+    return out
+
+
+def turning_points(result: Result, instance: str) -> list[tuple[float, float]]:
+    """(t, x) where a slide ended: the block came to rest, to stay or to turn back."""
+    return [(t, x) for t, x, before, _ in mode_changes(result, instance) if before != 0]
+
+
+def slip_times(result: Result, instance: str) -> list[float]:
+    """Times a stick ended: the block broke free."""
+    return [t for t, _, before, after in mode_changes(result, instance) if before == 0 != after]
+
+
+def _fit_slope(t, y) -> tuple[float, float]:
+    """(least-squares slope, sum of |weights|): an error of at most e in every y moves the
+    slope by at most e times that sum."""
+    t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
+    if len(t) < 3:
+        return math.nan, math.nan
+    w = (t - t.mean()) / np.sum((t - t.mean()) ** 2)
+    return float(np.sum(w * y)), float(np.sum(np.abs(w)))
+
+
+def _nth(items, n, width=2):
+    return items[n] if n < len(items) else (math.nan,) * width
+
+
+# --- 9.5 resonance ---------------------------------------------------------------------
+RESONANCE = dict(mu_k=0.6, mu_s=0.6, x=10.0)  # mu_s = mu_k = mu, the seed's x(0) = 10
+PHASE_LOCK = 1e-3  # [rad] turning points within this of w0 t = j pi count as locked
+
+
+def _driven_block(asm: Assembly, drive: str, name: str, U: float, x0: float) -> None:
+    asm.add(drive, SineMotion(U=U, omega=1.0))
+    asm.add(name, SpringBlock(**SEED, **{**RESONANCE, "x": x0}))
+    asm.connect(f"{drive}.flange", f"{name}.flange_a")
+
+
+def _resonance_growth() -> Assembly:
+    asm = Assembly("resonance_growth")
+    _driven_block(asm, "drive", "block", U=1.0, x0=10.0)
+    return asm
+
+
+def _resonance_below() -> Assembly:
+    asm = Assembly("resonance_below")
+    _driven_block(asm, "drive", "block", U=0.4, x0=10.0)
+    _driven_block(asm, "drive_locked", "locked", U=0.4, x0=-10.0)
+    return asm
+
+
+def _driven(result: Result, asm: Assembly, drive: str, block: str) -> dict:
+    """The driven block's numbers as the assembly holds them (after any --param), and
+    `acc`: the accuracy a run promises for a figure of a given size."""
+    b, s = asm.component(block).values, asm.component(drive).values
+    return dict(m=b["m"], k=b["k"], g=b["g"], mu_s=b["mu_s"], mu_k=b["mu_k"], U=s["U"],
+                omega=s["omega"], x0=asm.component(block).starts["x"],
+                v0=asm.component(block).starts["v"],
+                acc=lambda scale: _accuracy(result, scale, drive_omega=s["omega"]))
+
+
+def _exact(p: dict, t_end: float):
+    block = DrivenCoulombBlock(p["m"], p["k"], p["g"], p["mu_s"], p["mu_k"], p["U"], p["omega"])
+    return block, block.solve(p["x0"], p["v0"], t_end)
+
+
+def _half_period_figures(result, p, instance) -> list[Figure]:
+    """The turning points of the seed's half-period law against the run's first ones."""
+    run = turning_points(result, instance)
+    law = half_period_turning_points(p["m"], p["k"], p["g"], p["mu_k"], p["U"], p["x0"],
+                                     result["time"][-1])[1:]
+    figures = []
+    for j, (t_j, x_j) in enumerate(law, start=1):
+        t, x = _nth(run, j - 1)
+        figures += [Figure(f"A{j}", f"{instance}: turning point {j} [m], one more half period "
+                           "of the law", x, x_j, p["acc"](max(abs(x_j), abs(p["x0"])))),
+                    Figure(f"t_A{j}", f"{instance}: its time, j pi / w0 [s]", t, t_j,
+                           p["acc"](t_j))]
+    return figures
+
+
+def _event_count_figure(result, instance, phases) -> Figure:
+    return Figure("turns", f"{instance}: slides that ended in the run vs the exact "
+                  "event-driven solution", float(len(turning_points(result, instance))),
+                  float(len(slide_ends(phases))), 0.0)
+
+
+def _locked_window(phases, w0: float):
+    """The exact solution's turning points from where the motion is locked: after the
+    last stick, every one within PHASE_LOCK of w0 t = j pi."""
+    last_stick = max((ph.t for ph in phases if ph.mode == 0), default=0.0)
+    late = [ph for ph in slide_ends(phases) if ph.t > last_stick]
+    i = len(late)
+    def phase(t):
+        return abs(w0 * t - math.pi * round(w0 * t / math.pi))
+    while i and phase(late[i - 1].t) <= PHASE_LOCK:
+        i -= 1
+    return late[i:]
+
+
+def _resonance_growth_figures(result: Result, asm: Assembly) -> list[Figure]:
+    p = _driven(result, asm, "drive", "block")
+    _, phases = _exact(p, float(result["time"][-1]))
+    figures = _half_period_figures(result, p, "block")
+    w0 = math.sqrt(p["k"] / p["m"])
+    window = _locked_window(phases, w0)
+    t_lock = window[0].t if window else math.inf
+    rate = resonance_growth_rate(p["m"], p["k"], p["g"], p["mu_k"], p["U"])
+    run = [(t, abs(x)) for t, x in turning_points(result, "block")
+           if t > t_lock - math.pi / (2 * w0)]
+    slope, spread = _fit_slope(*zip(*run)) if run else (math.nan, math.nan)
+    exact_slope, _ = _fit_slope([ph.t for ph in window], [abs(ph.x) for ph in window])
+    # The law is exact for a locked motion, but the lock is only approached (the phase
+    # error falls like |x|^-4 here): over the window the exact solution's own fit misses
+    # the law by what is left of it; the run may add the solver's error at each point
+    share = spread * p["acc"](max((abs(ph.x) for ph in window), default=1.0))
+    turns = slide_ends(phases)
+    last_run, last = _nth(turning_points(result, "block"), len(turns) - 1), turns[-1]
+    return figures + [
+        Figure("rate", f"growth of |x| at turning points [m/s], fitted from the lock "
+               f"(t >= {t_lock:.1f} s), vs (U pi - 4 mu m g/k) w0/(2 pi); accuracy: the exact "
+               "solution's misfit there plus the solver's", slope, rate,
+               abs(exact_slope - rate) + share),
+        Figure("rate_exact", "the same fit vs the exact event-driven solution's over the same "
+               "turning points [m/s]", slope, exact_slope, share),
+        Figure("A_last", "last turning point [m] vs the exact event-driven solution",
+               last_run[1], last.x, p["acc"](max(abs(last.x), abs(p["x0"])))),
+        Figure("t_last", "its time [s]", last_run[0], last.t, p["acc"](last.t)),
+        _event_count_figure(result, "block", phases)]
+
+
+def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
+    p = _driven(result, asm, "drive", "block")
+    exact, phases = _exact(p, float(result["time"][-1]))
+    figures = _half_period_figures(result, p, "block")
+    figures.append(_event_count_figure(result, "block", phases))
+    # no growth: the largest |x| over the last forcing period, the run's and the exact
+    # solution's at the same output times (so sampling adds nothing)
+    t = result["time"]
+    last = t >= t[-1] - 2 * math.pi / p["omega"]
+    figures.append(Figure("amp_last", "largest |x| over the last forcing period [m] vs the "
+                          "exact solution at the same times",
+                          float(np.abs(result["block.x"][last]).max()),
+                          float(np.abs(exact.position(phases, t[last])).max()), p["acc"](p["x0"])))
+    # in phase from x(0) = -10: every slide lasts a half period, the seed's rate is exact
+    q = _driven(result, asm, "drive_locked", "locked")
+    law = half_period_turning_points(q["m"], q["k"], q["g"], q["mu_k"], q["U"], q["x0"],
+                                     float(t[-1]))[1:]
+    run = turning_points(result, "locked")
+    slope, spread = (_fit_slope(*zip(*[(tt, abs(x)) for tt, x in run[:len(law)]]))
+                     if len(run) >= len(law) else (math.nan, math.nan))
+    t_end, x_end = law[-1]
+    t_run, x_run = _nth(run, len(law) - 1)
+    return figures + [
+        Figure("rate_locked", f"locked: change of |x| over its {len(law)} turning points "
+               "[m/s] vs (U pi - 4 mu m g/k) w0/(2 pi) < 0: no resonance", slope,
+               resonance_growth_rate(q["m"], q["k"], q["g"], q["mu_k"], q["U"]),
+               spread * q["acc"](q["x0"])),
+        Figure("locked_A_end", "locked: last turning point of the half-period law [m]",
+               x_run, x_end, q["acc"](q["x0"])),
+        Figure("locked_t_end", "locked: its time [s]", t_run, t_end, q["acc"](t_end))]
+
+
+# --- 9.3 the distinguished limit -------------------------------------------------------
+STIFFNESSES = (1e2, 1e3, 1e4)  # K [N/m] of the springs inside the block
+
+
+def _chain(asm: Assembly, prefix: str, n: int, K: float) -> None:
+    """driver -(k)- mass1 -(K)- mass2 ... massn, each m/n with the seed's friction; mass1
+    is the front, pulled through the spring `pull` whose end moves at SPEED."""
+    asm.add(f"{prefix}driver", ConstantSpeed(v=SPEED))
+    asm.add(f"{prefix}pull", Spring(c=SEED["k"]))
+    asm.connect(f"{prefix}driver.flange", f"{prefix}pull.flange_a")
+    left = f"{prefix}pull.flange_b"
+    for i in range(1, n + 1):
+        asm.add(f"{prefix}mass{i}", MassWithFriction(m=SEED["m"] / n, g=SEED["g"], **DRAG))
+        asm.connect(left, f"{prefix}mass{i}.flange_b")
+        if i < n:
+            asm.add(f"{prefix}link{i}", Spring(c=K))
+            asm.connect(f"{prefix}mass{i}.flange_a", f"{prefix}link{i}.flange_b")
+            left = f"{prefix}link{i}.flange_a"
+
+
+def _prefix(K: float) -> str:
+    return f"K{round(math.log10(K))}_"  # K2_: K = 1e2 N/m
+
+
+def _distinguished(n: int):
+    def build() -> Assembly:
+        asm = Assembly(f"distinguished_limit_{n}")
+        for K in STIFFNESSES:
+            _chain(asm, _prefix(K), n, K)
+        return asm
+    return build
+
+
+def _chain_numbers(asm: Assembly, K: float) -> dict:
+    """m (the whole block), k, g, mu_k, mu_s, v of the chain with inner springs K."""
+    pre = _prefix(K)
+    masses = [asm.component(name).values for name in asm.components
+              if name.startswith(f"{pre}mass")]
+    return dict(m=sum(b["m"] for b in masses), k=asm.component(f"{pre}pull").values["c"],
+                v=asm.component(f"{pre}driver").values["v"],
+                **{key: masses[0][key] for key in ("g", "mu_k", "mu_s")})
+
+
+def _distinguished_figures(n: int):
+    def figures(result: Result, asm: Assembly) -> list[Figure]:
+        out = []
+        for K in STIFFNESSES:
+            c, name = _chain_numbers(asm, K), _prefix(K)[:-1]
+            t_ref = chain_first_slip(n, c["m"], c["k"], c["g"], c["mu_s"], c["v"])
+            firsts = [(slip_times(result, f"{name}_mass{i}") or [math.inf])[0]
+                      for i in range(1, n + 1)]
+            first = min(firsts) if math.isfinite(min(firsts)) else math.nan
+            out += [Figure(f"t_slip_{name}", f"K = {K:g} N/m: first slip in the block of {n} "
+                           "masses [s] vs mu_s m g / (n k v)", first, t_ref,
+                           _accuracy(result, t_ref) + _held_input_delay(result)),
+                    Figure(f"first_{name}", f"K = {K:g} N/m: which mass slips first (1: the "
+                           "front, the one pulled)",
+                           float(firsts.index(min(firsts)) + 1) if first == first else math.nan,
+                           1.0, 0.0)]
+        if n == 2:
+            out.append(_rear_slip_figure(result, asm))
+        return out
+    return figures
+
+
+REAR_ORDER = 0.5  # the rear half's slip time approaches its limit like K^-1/2 (fast period)
+
+
+def _rear_slip_figure(result: Result, asm: Assembly) -> Figure:
+    """The whole block slides (the rear half slips) at the stiffest K, against the K -> oo
+    limit of the staircase, with a convergence study from the next stiffness down."""
+    stiff, softer = STIFFNESSES[-1], STIFFNESSES[-2]
+    rear = {K: (slip_times(result, f"{_prefix(K)}mass2") or [math.nan])[0] for K in (stiff, softer)}
+    c = _chain_numbers(asm, stiff)
+    limit = two_halves_rear_slip(c["m"], c["k"], c["g"], c["mu_k"], c["mu_s"], c["v"])
+    return Figure(f"t_rear_{_prefix(stiff)[:-1]}", f"K = {stiff:g} N/m: the rear half's first "
+                  "slip [s] vs its K -> oo limit (the front's staircase); accuracy: K/10 -> K "
+                  "convergence, order 1/2", rear[stiff], limit,
+                  richardson_bound(rear[softer], rear[stiff], stiff / softer, REAR_ORDER)
+                  + _accuracy(result, limit))
+
+
+def _distinguished_record(n: int) -> list[str]:
+    cols = []
+    for K in STIFFNESSES:
+        pre = _prefix(K)
+        cols += [f"{pre}pull.f"] + [f"{pre}link{i}.f" for i in range(1, n)]
+        cols += [f"{pre}mass{i}.{c}" for i in range(1, n + 1) for c in ("s", "mode")]
+    return cols
+
+
+# --- 9.2 steady sliding ----------------------------------------------------------------
+ETA0 = 0.03      # [m] start off steady sliding; |eta'| <= w0 ETA0 < SPEED: it keeps sliding
+DAMPING = 0.2    # [N.s/m] the dashpot of the damped block: decay rate d / 2m = 0.1 /s
+
+
+def _sliding_block(asm: Assembly, name: str, d: float, eta0: float) -> None:
+    x_ss = steady_sliding_lag(SEED["m"], SEED["k"], SEED["g"], DRAG["mu_k"])
+    asm.add(f"{name}_end", ConstantSpeed(v=SPEED))
+    # on x = v t - x_ss + eta with x' = v: the initialisation finds it sliding forward
+    asm.add(name, SpringBlock(**SEED, **DRAG, d=d, x=-x_ss + eta0, v=SPEED))
+    asm.connect(f"{name}_end.flange", f"{name}.flange_a")
+
+
+def _steady_sliding() -> Assembly:
+    asm = Assembly("steady_sliding")
+    _sliding_block(asm, "steady", 0.0, 0.0)
+    _sliding_block(asm, "neutral", 0.0, ETA0)
+    _sliding_block(asm, "damped", DAMPING, ETA0)
+    return asm
+
+
+def _eta(result: Result, asm: Assembly, name: str):
+    """(p, eta, eta'): the deviation from steady sliding and its rate, from the run."""
+    b, v = asm.component(name).values, asm.component(f"{name}_end").values["v"]
+    x_ss = steady_sliding_lag(b["m"], b["k"], b["g"], b["mu_k"])
+    t = result["time"]
+    eta0 = asm.component(name).starts["x"] + x_ss
+    return (dict(b, v=v, x_ss=x_ss, eta0=eta0, deta0=asm.component(name).starts["v"] - v),
+            result[f"{name}.x"] - (v * t - x_ss), result[f"{name}.v"] - v)
+
+
+def _extremes(t, eta, deta):
+    """(times, values) of the extremes of eta, from its cubic Hermite interpolant with
+    eta' = x' - v: error ~ h^4 w0^4 |eta| / 384 for the output interval h."""
+    spline = CubicHermiteSpline(t, eta, deta)
+    roots = spline.derivative().roots(extrapolate=False)
+    roots = roots[(roots > t[0]) & (roots < t[-1])]
+    return roots, spline(roots)
+
+
+def _steady_sliding_figures(result: Result, asm: Assembly) -> list[Figure]:
+    t, h = result["time"], result.settings["step"]
+    p, _, _ = _eta(result, asm, "steady")
+    lag = p["v"] * t[-1] - result["steady.x"][-1]
+    figures = [Figure("lag", "steady block: v t - x at the end [m] vs x_ss = mu_k m g / k",
+                      float(lag), p["x_ss"], _accuracy(result, p["v"] * t[-1]))]
+    # neutral: the deviation keeps its amplitude (a centre, seed 9.2)
+    p, eta, deta = _eta(result, asm, "neutral")
+    w0 = math.sqrt(p["k"] / p["m"])
+    _, values = _extremes(t, eta, deta)
+    hermite = (h * w0) ** 4 / 384
+    scale = p["v"] * t[-1]
+    figures.append(Figure("eta_neutral", "neutral (no damping): |eta| at its last extreme [m] "
+                          "vs its start: no decay, no growth", float(abs(values[-1])) if len(values)
+                          else math.nan, abs(p["eta0"]),
+                          _accuracy(result, scale) + hermite * abs(p["eta0"])))
+    # damped: the extremes fall as exp(-d t / 2m)
+    p, eta, deta = _eta(result, asm, "damped")
+    times, values = _extremes(t, eta, deta)
+    rate, spread = _fit_slope(times, np.log(np.abs(values)))
+    smallest = float(np.abs(values).min()) if len(values) else math.nan
+    figures.append(Figure("decay_rate", "damped: decay rate of |eta| at its extremes [1/s] vs "
+                          "d / 2m", -rate, perturbation_decay_rate(p["m"], p["d"]),
+                          spread * (_accuracy(result, scale) / smallest + hermite)))
+    eta_end = float(sliding_perturbation(t[-1], p["m"], p["k"], p["d"], p["eta0"], p["deta0"])[0])
+    figures.append(Figure("eta_damped_end", "damped: eta at the end [m] vs the closed form",
+                          float(eta[-1]), eta_end, _accuracy(result, scale)))
+    # the closed forms hold while every block slides forward (friction -mu_k m g)
+    off = sum(int(np.count_nonzero(result[f"{n}.mode"] != 1))
+              for n in ("steady", "neutral", "damped"))
+    figures.append(Figure("not_sliding", "output points where a block is not sliding forward "
+                          "(the closed forms' premise)", float(off), 0.0, 0.0))
+    return figures
+
+
+# --- 9.2 stick-slip with a dashpot -----------------------------------------------------
+# [N.s/m] below and above the 0.2907 where the first slide stops re-sticking (bisection on
+# damped_stick_slip, seed Eq. 9.4's numbers)
+LIGHT, HEAVY = 0.05, 0.5
+
+
+def _stick_slip_damped() -> Assembly:
+    asm = Assembly("stick_slip_damped")
+    for name, d in (("light", LIGHT), ("heavy", HEAVY)):
+        asm.add(f"{name}_end", ConstantSpeed(v=SPEED))
+        asm.add(name, SpringBlock(**SEED, **DRAG, d=d))
+        asm.connect(f"{name}_end.flange", f"{name}.flange_a")
+    return asm
+
+
+def _stick_slip_damped_figures(result: Result, asm: Assembly) -> list[Figure]:
+    b, v = asm.component("light").values, asm.component("light_end").values["v"]
+    cycle = damped_stick_slip(b["m"], b["k"], b["d"], b["g"], b["mu_k"], b["mu_s"], v)
+    T = float(result["time"][-1])
+    slips = slip_times(result, "light")
+    sticks = [(t, x) for t, x, before, after in mode_changes(result, "light") if after == 0]
+    count = math.floor((T - cycle.t1) / cycle.period) + 1
+    t2, x2 = _nth(sticks, 0)
+    figures = [
+        Figure("t1", "light: first slip [s] vs (mu_s m g - d v) / (k v)",
+               slips[0] if slips else math.nan, cycle.t1, _accuracy(result, cycle.t1)),
+        Figure("t2", "light: first re-stick [s], the damped slide's x' = 0", t2, cycle.t2,
+               _accuracy(result, cycle.t2)),
+        Figure("x(t2)", "light: position at the re-stick [m]", x2, cycle.x2,
+               _accuracy(result, cycle.x2)),
+        Figure("period", "light: second slip - first slip [s] vs x(t2) / v",
+               slips[1] - slips[0] if len(slips) > 1 else math.nan, cycle.period,
+               2 * _accuracy(result, T)),
+        Figure("slips", "light: slips in the run (stick-slip persists)", float(len(slips)),
+               float(count), 0.0),
+        Figure("t_last_slip", "light: the last slip [s] vs t1 + (slips - 1) period",
+               slips[-1] if slips else math.nan, cycle.t1 + (count - 1) * cycle.period,
+               _accuracy(result, T)),
+    ]
+    # heavy: slips once and slides on, eta a damped free oscillation from the slip
+    b, v = asm.component("heavy").values, asm.component("heavy_end").values["v"]
+    t1, eta0, deta0 = damped_first_slip(b["m"], b["k"], b["d"], b["g"], b["mu_k"], b["mu_s"], v)
+    eta_end = float(sliding_perturbation(T - t1, b["m"], b["k"], b["d"], eta0, deta0)[0])
+    x_ss = steady_sliding_lag(b["m"], b["k"], b["g"], b["mu_k"])
+    lag = v * T - result["heavy.x"][-1]
+    figures += [
+        Figure("heavy_slips", "heavy: slips in the run (one: then it slides steadily)",
+               float(len(slip_times(result, "heavy"))), 1.0, 0.0),
+        Figure("heavy_lag", "heavy: v t - x at the end [m] vs x_ss - eta(t), eta the damped "
+               "slide from the slip", float(lag), x_ss - eta_end, _accuracy(result, v * T)),
+    ]
+    return figures
+
+
+# --- 9.2 the smooth law, Fig. 9.4 ------------------------------------------------------
+SMOOTH_EPS, FINER_EPS = 1e-3, 1e-4  # [m/s] the seed's eps, and a tenth of it
+DELAY_ORDER = 2 / 3  # the slowest of the smooth law's errors: passing the fold of its peak
+
+
+def _stick_slip_smooth() -> Assembly:
+    asm = Assembly("stick_slip_smooth")
+    for name, eps in (("smooth", SMOOTH_EPS), ("finer", FINER_EPS)):
+        asm.add(f"{name}_end", ConstantSpeed(v=SPEED))
+        asm.add(name, SpringBlock(**SEED, **DRAG, friction="smooth", eps=eps))
+        asm.connect(f"{name}_end.flange", f"{name}.flange_a")
+    return asm
+
+
+def _gross_slip(result: Result, name: str, level: float) -> tuple[float, float]:
+    """(start, end) of the first gross slip: x' first rises through `level`, then falls
+    back through it, from the cubic Hermite interpolant of (x', x'')."""
+    t, v, a = result["time"], result[f"{name}.v"], result[f"{name}.a"]
+    spline = CubicHermiteSpline(t, v - level, a)
+    roots = spline.roots(extrapolate=False)
+    up = [r for r in roots if spline(r, 1) > 0]
+    down = [r for r in roots if up and r > up[0] and spline(r, 1) < 0]
+    return (float(up[0]) if up else math.nan, float(down[0]) if down else math.nan)
+
+
+def _stick_slip_smooth_figures(result: Result, asm: Assembly) -> list[Figure]:
+    b, v = asm.component("smooth").values, asm.component("smooth_end").values["v"]
+    eps, eps_fine = b["eps"], asm.component("finer").values["eps"]
+    u_star, mu_max = smooth_law_peak(b["mu_k"], b["mu_s"])
+    coarse = _gross_slip(result, "smooth", u_star * eps)
+    fine = _gross_slip(result, "finer", u_star * eps_fine)
+    exact = stick_slip_first_cycle(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v)
+    # As eps -> 0 Eq. 9.5 is Coulomb friction with mu_s replaced by its peak mu_max: that
+    # shift is a closed form. What eps adds delays both instants (the creep before the slip
+    # slackens the spring, ~eps; passing the fold at the peak takes ~eps^(2/3); the slide
+    # starts that much later), so its terms share a sign and the convergence study against
+    # the finer block bounds them
+    limit = stick_slip_first_cycle(b["m"], b["k"], b["g"], b["mu_k"], mu_max, v)
+    figures = []
+    for i, name, what in ((0, "t1", "first slip (x' rises through u* eps)"),
+                          (1, "t2", "first stick (x' falls back through u* eps)")):
+        # (no convergence study, no stated accuracy: a finer eps that is not finer fails)
+        study = (richardson_bound(coarse[i], fine[i], eps / eps_fine, DELAY_ORDER)
+                 if eps > eps_fine else math.nan)
+        accuracy = abs(exact[i] - limit[i]) + study + _accuracy(result, exact[i])
+        figures.append(Figure(name, f"eps = {eps:g}: {what} [s] vs the exact Coulomb time",
+                              coarse[i], exact[i], accuracy))
+    for name, start, e in (("smooth", coarse[0], eps), ("finer", fine[0], eps_fine)):
+        lo, hi = smooth_slip_bracket(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, e)
+        figures.append(Figure(f"t1_bounds_{name}", f"eps = {e:g}: first slip [s] within "
+                              f"[{lo:.4f}, {hi:.4f}], bounds derived from the law",
+                              start, (lo + hi) / 2, (hi - lo) / 2 + _accuracy(result, hi)))
+    return figures
+
+
+# --- the registry's entries --------------------------------------------------------------
+def _blocks_record(names, columns) -> list[str]:
+    return [f"{n}.{c}" for n in names for c in columns]
+
+
+SEED_FRICTION_SCENES: dict[str, Scene] = {
+    "steady_sliding": Scene(
+        "steady_sliding", "seed 9.2: steady sliding x = v t - mu_k m g/k; a disturbance keeps "
+        "its amplitude without damping and dies out at d/2m with it (exact Coulomb friction)",
+        _steady_sliding, stop_time=40.0, step=0.05, tolerance=1e-10,
+        record=_blocks_record(("steady", "neutral", "damped"), ("x", "v", "mode")),
+        figures=_steady_sliding_figures, picture=plot_sliding, seed="9.2",
+        reference="lag x_ss = μk m g/k = 0.3; a disturbance keeps its amplitude without "
+                  "damping, decays at d/2m = 0.1 with it (closed forms)"),
+    "stick_slip_damped": Scene(
+        "stick_slip_damped", "seed 9.2: stick-slip survives a little damping in the spring "
+        "(d = 0.05), not a lot (d = 0.5 slides steadily after one slip); exact Coulomb friction",
+        _stick_slip_damped, stop_time=60.0, step=0.1, tolerance=1e-10,
+        record=_blocks_record(("light", "heavy"), ("x", "v", "mode")),
+        figures=_stick_slip_damped_figures, plot=["light.x", "light.v", "heavy.v"], seed="9.2",
+        reference="d = 0.05: t1 = (μs m g − d v)/(k v) = 7.95, t2 = 12.0860, x(t2) = 0.39194, "
+                  "period x(t2)/v = 7.8388 (closed form, one root); d = 0.5 > 0.2907: one "
+                  "slip, then steady sliding"),
+    "stick_slip_smooth": Scene(
+        "stick_slip_smooth", "seed 9.2, Fig. 9.4: the smooth friction law Eq. 9.5 "
+        "(eps = 1e-3, and 1e-4) against the exact stick-slip's t1 and t2",
+        _stick_slip_smooth, stop_time=30.0, step=0.01, tolerance=1e-8,
+        record=_blocks_record(("smooth", "finer"), ("x", "v", "a", "f_friction")),
+        figures=_stick_slip_smooth_figures, picture=plot_smooth, seed="9.2, Fig. 9.4",
+        reference="exact t1 = 8, t2 = 12.0689, within Eq. 9.5's peak deficit (μmax = 0.39868) "
+                  "and an ε → ε/10 convergence bound; rigorous bounds on the slip onset"),
+    "distinguished_limit": Scene(
+        "distinguished_limit", "seed 9.3: the block as two halves m/2 joined by a stiff "
+        "spring K = 1e2, 1e3, 1e4 N/m, pulled as in 9.2 (exact Coulomb friction): the front "
+        "half slips at t1/2 = 4 s, before the rigid block's 8 s, whatever K",
+        _distinguished(2), stop_time=6.5, step=0.01, tolerance=1e-9,
+        record=_distinguished_record(2), figures=_distinguished_figures(2),
+        picture=plot_distinguished_limit, mode="me", seed="9.3",
+        reference="first slip μs m g/(n k v) = 4 for K = 1e2, 1e3, 1e4 (closed form: only the "
+                  "front half is loaded before it slips); the rear half's slip → 6 as K → ∞ "
+                  "(staircase limit, K^-1/2 convergence)"),
+    "distinguished_limit_n4": Scene(
+        "distinguished_limit_n4", "seed 9.3: the block as n = 4 masses m/4 joined by stiff "
+        "springs K = 1e2, 1e3, 1e4 N/m (exact Coulomb friction): the front mass slips "
+        "earlier still, at t1/4 = 2 s, whatever K",
+        _distinguished(4), stop_time=6.5, step=0.01, tolerance=1e-9,
+        record=_distinguished_record(4), figures=_distinguished_figures(4),
+        picture=plot_distinguished_limit, mode="me", seed="9.3",
+        reference="first slip μs m g/(n k v) = 2 for K = 1e2, 1e3, 1e4 (closed form)"),
+    "resonance_growth": Scene(
+        "resonance_growth", "seed 9.5, Fig. 9.7: spring end moved as U sin t, U = 1, mu = 0.6, "
+        "x(0) = 10; exact Coulomb friction (the seed's figure uses Eq. 9.10, mu tanh(v/0.001), "
+        "without Eq. 9.7's factor 3): |x| grows at (U pi - 4 mu)/(2 pi) = 0.118",
+        _resonance_growth, stop_time=80.0, step=0.05, tolerance=1e-10,
+        record=["block.x", "block.v", "block.mode", "drive.flange.s"],
+        figures=_resonance_growth_figures, picture=plot_resonance, mode="me", seed="9.5, Fig. 9.7",
+        reference="growth (Uπ − 4μ)/(2π) = 0.1180 once phase-locked; turning points 7.229, "
+                  "4.458, 1.688 at π, 2π, 3π; the exact event-driven Coulomb solution"),
+    "resonance_below": Scene(
+        "resonance_below", "seed 9.5, Fig. 9.6: U = 0.4 < 4 mu / pi, exact Coulomb friction "
+        "(the seed's figure uses Eq. 9.10, mu tanh(v/0.001)): from x(0) = 10 no resonant "
+        "growth; from x(0) = -10, in phase, |x| falls at (U pi - 4 mu)/(2 pi) = -0.182",
+        _resonance_below, stop_time=60.0, step=0.05, tolerance=1e-10,
+        record=_blocks_record(("block", "locked"), ("x", "v", "mode")),
+        figures=_resonance_below_figures, picture=plot_resonance, mode="me", seed="9.5, Fig. 9.6",
+        reference="U < 4μ/π = 0.764: turning points 8.172 … 0.858 at π … 5π, then the exact "
+                  "event-driven solution (no growth); in phase from x(0) = −10, rate "
+                  "(Uπ − 4μ)/(2π) = −0.182"),
+}
+
+__all__ = ["SEED_FRICTION_SCENES"]
