@@ -981,6 +981,7 @@ int eng_cosim_advance(eng_cosim *m, double target)
 {
     cosim *c = &m->c;
     const double eps_t = 1e-12 * fmax(1.0, fabs(target));
+    int probes = 0;
     if (m->stats.status == ENG_FAILED) return ENG_FAILED;
     c->have_prev = 0;
     while (!c->terminated) {
@@ -988,7 +989,9 @@ int eng_cosim_advance(eng_cosim *m, double target)
             if (one_step(c, target) < 0) return m->stats.status = ENG_FAILED;
             continue;
         }
-        if (c->cfg->event_sync && c->have_prev && c->t > c->located_at) {
+        /* (a bounded number of times: modes that fire again at every point would
+           otherwise bisect without end; the step after this call handles them) */
+        if (c->cfg->event_sync && c->have_prev && c->t > c->located_at && probes++ < 100) {
             int i, fires;
             double t_event;
             for (i = 0; i < c->cfg->n_instances; i++) c->which[i] = 1;
