@@ -117,9 +117,10 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
                                     "token with whitespace or a path separator")
         plan = coupling_plan(assembly, fmus)
         if mode == "me":  # the integrator evaluates the couplings by dependency level
-            # (the co-simulation's groups, sweep and held inputs travel along unused)
+            # (the co-simulation's groups and sweep travel along unused)
             plan.pairs = [(plan.variable(*c.source), plan.variable(*c.target), c.gain)
                           for c in coupling_order(couplings, fmus)]
+            plan.held = [0] * len(plan.pairs)
             # an input set from outside moves indicators while the states stand still,
             # as a time-dependent one does (and the joined model has no open inputs)
             fed = {c.target for c in couplings}
