@@ -21,7 +21,7 @@ from assemblies import Assembly, AssemblyError
 from assemblies.engine.cosim import DEFAULT_SCHEME, cosimulate
 from assemblies.experiment import FixedStepFallback
 from assemblies.foreign import FMU
-from assemblies.fmu_export import export_fmu
+from assemblies import export_fmu
 from assemblies.scenes import scene
 from assemblies.scenes.speed_control import pi_speed_loop
 from components import Force, MassWithFriction
