@@ -337,7 +337,7 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
         const asm_port *p;
         fmu_t *member;
         double v;
-        int rc;
+        int rc, integrating;
         if (vr[k] == 0) {
             if (writing) return ERROR(A, "%s: time (value reference 0) is not settable", fn);
             if (ints) return ERROR(A, "%s: time is a %s, not an %s", fn, A->host.float_type,
@@ -352,13 +352,19 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
         if (writing && p->kind != ASM_INPUT)
             return ERROR(A, "%s: value reference %u is not an input, not settable (states are "
                          "set through SetContinuousStates)", fn, vr[k]);
+        /* once the importer integrates (Event and Continuous-Time Mode), what is read is
+           computed at its time and states; before that, the members' own values */
+        integrating = A->iface == MF_MODEL_EXCHANGE &&
+                      (A->phase == EVENT_MODE || A->phase == CONTINUOUS);
         if (p->kind == ASM_INDICATOR) {
+            if (!integrating)
+                return ERROR(A, "%s: event indicators are read in Event or Continuous-Time "
+                             "Mode, not in the %s", fn, phase_names[A->phase]);
             if (eng_me_indicators(A->me, A->z)) return engine_failed(A, fn);
             *f = A->z[p->member.vr];
             continue;
         }
-        if (!writing && A->iface == MF_MODEL_EXCHANGE && eng_me_sync(A->me))
-            return engine_failed(A, fn); /* the members at the importer's time and states */
+        if (!writing && integrating && eng_me_sync(A->me)) return engine_failed(A, fn);
         member = member_of(A, p->member.instance);
         if (writing) {
             v = ints ? (double)*i : *f;
