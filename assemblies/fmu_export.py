@@ -22,28 +22,24 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-import shutil
-import tempfile
 import warnings
 import zipfile
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 from fmpy import read_model_description
 
-from fmus.build import (CFLAGS, FMI_HEADERS, RUNTIME_DIR, platform_folder, cache_dir,
-                        compile_library)
-from fmus.model_description import FMI_VERSIONS, GENERATION_TOOL, shared_head
+from fmus.build import FMI_HEADERS, RUNTIME_DIR, cached_library, platform_folder, token_from_digest
+from fmus.model_description import FMI_VERSIONS, GENERATION_TOOL, shared_head, xml_attributes
 
 from .assembly import Assembly, AssemblyError
 from .engine.build import C_DIR, SHARED_RUNTIME
 from .engine.cosim import DEFAULT_SCHEME, EVENT_TOL, coupling_plan
 from .engine.me import EVENT_SUBSAMPLES, METHODS, step_limit_needed
-from .masters.me import coupling_order
 from .engine.prepare import prepared, record_columns
 from .experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                          fixed_step_fallback)
 from .foreign import FMU, check_mode
+from .masters.me import coupling_order
 
 FMU_C_DIR = Path(__file__).parent / "engine" / "fmu"
 # the engine's files the FMU links: its two masters and what they stand on
@@ -79,7 +75,8 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
         raise AssemblyError(f"export_fmu: fmi must be 2 or 3, not {fmi!r}")
     foreign = {n: c for n, c in assembly.components.items() if isinstance(c, FMU)}
     if mode is None:
-        mode = "me" if any("cosim" not in c.modes_supported() for c in foreign.values()) else "cosim"
+        me_only = any("cosim" not in c.modes_supported() for c in foreign.values())
+        mode = "me" if me_only else "cosim"
     if mode not in ("cosim", "me"):
         raise AssemblyError(f"export_fmu: mode must be 'cosim' or 'me', not {mode!r}")
     try:
@@ -94,7 +91,8 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
         raise AssemblyError(f"export_fmu: {', '.join(sorted(settings))} set(s) the co-simulation "
                             "master; mode 'me' integrates and takes `method` and `tolerance`")
     if method not in METHODS:
-        raise AssemblyError(f"export_fmu: method must be one of {', '.join(METHODS)}, not {method!r}")
+        raise AssemblyError(f"export_fmu: method must be one of {', '.join(METHODS)}, "
+                            f"not {method!r}")
     s = {**DEFAULT_SCHEME, "loop_tolerance": 1e-10, "max_loop_iterations": 20, "newton": True,
          **settings}
     s.setdefault("event_sync", bool(s["adaptive"]))
@@ -131,7 +129,7 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
     s.update(mode=mode, method=METHODS[method])
     ports = _interface(assembly, fmus, plan, outputs, mode, fmi)
     config = _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s)
-    token = _token(config)
+    token = token_from_digest(hashlib.sha256(config.encode()).hexdigest())
     identifier = re.sub(r"\W", "_", assembly.name) or "assembly"
     if identifier[0].isdigit():
         identifier = "_" + identifier
@@ -216,48 +214,47 @@ def _interface(assembly, fmus, plan, outputs, mode, fmi) -> list[dict]:
 
 def _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s) -> str:
     """resources/assembly.txt (its format: assemblies/engine/fmu/assembly_config.c)."""
-    def var(v):
-        return f"{v[0]} {v[1]} {v[2]}"
+    def line(*words):
+        # floats by repr: the C side reads back exactly the numbers written
+        return " ".join(repr(w) if isinstance(w, float) else str(w) for w in words)
 
+    def var(v):
+        return line(*v)
+
+    settings = (float(stop_time), float(tolerance), float(step), 0 if scheme == "jacobi" else 1,
+                int(s["extrapolation"]), int(bool(s["adaptive"])), float(s["tol"]),
+                float(s["loop_tolerance"]), int(s["max_loop_iterations"]),
+                int(bool(s["newton"])), int(bool(s["event_sync"])), EVENT_TOL, s["method"],
+                EVENT_SUBSAMPLES, float(s.get("max_step", 0.0)))
     lines = ["mechfmu-assembly 1", "token @TOKEN@", f"mode {s['mode']}",
-             "settings " + " ".join(repr(x) for x in (
-                 float(stop_time), float(tolerance), float(step))) + " " + " ".join(str(x) for x in (
-                 0 if scheme == "jacobi" else 1, int(s["extrapolation"]), int(bool(s["adaptive"])),
-                 repr(float(s["tol"])), repr(float(s["loop_tolerance"])),
-                 int(s["max_loop_iterations"]), int(bool(s["newton"])),
-                 int(bool(s["event_sync"])), repr(EVENT_TOL), s["method"], EVENT_SUBSAMPLES,
-                 repr(float(s.get("max_step", 0.0))))),
-             f"instances {len(fmus)}"]
+             line("settings", *settings), f"instances {len(fmus)}"]
     for n, fmu in fmus.items():
-        starts = {**assembly.components[n].values, **assembly.components[n].starts}
-        floats = [(fmu.variable(n, k)[0], float(v)) for k, v in starts.items()
-                  if not fmu.variable(n, k)[1]]
-        ints = [(fmu.variable(n, k)[0], int(v)) for k, v in starts.items() if fmu.variable(n, k)[1]]
-        lines.append(" ".join(str(x) for x in (
-            "instance", n, fmu.me_identifier if s["mode"] == "me" else fmu.cs_identifier, fmu.token, fmu.fmi_version, fmu.n_states,
-            fmu.n_event_indicators, int(fmu.can_get_set_state),
-            int(fmu.provides_directional_derivative), len(floats),
-            *(f"{vr} {v!r}" for vr, v in floats), len(ints), *(f"{vr} {v}" for vr, v in ints))))
+        floats, ints = fmu.typed_starts(n, {**assembly.components[n].values,
+                                            **assembly.components[n].starts})
+        identifier = fmu.me_identifier if s["mode"] == "me" else fmu.cs_identifier
+        lines.append(line("instance", n, identifier, fmu.token, fmu.fmi_version, fmu.n_states,
+                          fmu.n_event_indicators, int(fmu.can_get_set_state),
+                          int(fmu.provides_directional_derivative),
+                          len(floats), *(w for pair in floats for w in pair),
+                          len(ints), *(w for pair in ints for w in pair)))
     lines.append(f"couplings {len(plan.pairs)}")
-    lines += [f"coupling {var(src)} {var(tgt)} {float(gain)!r} {held}"
+    lines += [line("coupling", var(src), var(tgt), float(gain), held)
               for (src, tgt, gain), held in zip(plan.pairs, plan.held)]
     lines.append(f"groups {len(plan.groups)}")
-    lines += [f"group {int(g in plan.loops)} {len(g)} " + " ".join(map(str, g)) for g in plan.groups]
-    lines.append("sweep " + " ".join(map(str, plan.sweep_order)))
-    lines.append(f"states {len(plan.states)} " + " ".join(var(v) for v in plan.states))
+    lines += [line("group", int(g in plan.loops), len(g), *g) for g in plan.groups]
+    lines.append(line("sweep", *plan.sweep_order))
+    lines.append(line("states", len(plan.states), *(var(v) for v in plan.states)))
     lines.append(f"ports {len(ports)}")
-    lines += [f"port {p['vr']} {p['causality']} {var(p['member'])}" for p in ports]  # local, indicator too
+    # kinds: input, output, local (a state or its derivative), indicator
+    lines += [line("port", p["vr"], p["causality"], var(p["member"])) for p in ports]
     lines.append("end")
     return "\n".join(lines) + "\n"
 
 
-def _token(config: str) -> str:
-    d = hashlib.sha256(config.encode()).hexdigest()
-    return "{%s-%s-%s-%s-%s}" % (d[:8], d[8:12], d[12:16], d[16:20], d[20:32])
-
-
-def _a(**kw) -> str:
-    return " ".join(f"{k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
+def _element(depth: int, tag: str, inner: str = "", **attributes) -> str:
+    """One XML element on its own line: self-closing, or around `inner`."""
+    opening = f"{'  ' * depth}<{tag} {xml_attributes(**attributes)}"
+    return f"{opening}/>" if not inner else f"{opening}>{inner}</{tag}>"
 
 
 def _model_description(assembly, identifier, token, ports, fmi, stop_time, step, mode,
@@ -272,84 +269,75 @@ def _model_description(assembly, identifier, token, ports, fmi, stop_time, step,
     derivatives = [p for p in ports if p["derivative_of"]]
     states = [p for p in ports if p.get("state")]
     indicators = [p for p in ports if p["causality"] == "indicator"]
-    unknowns = sorted(outputs + states + derivatives, key=lambda p: p["vr"])
+    # a state that is also an output is one variable, listed once
+    unknowns = sorted({p["vr"]: p for p in outputs + states + derivatives}.values(),
+                      key=lambda p: p["vr"])
     me = mode == "me"
     by_name = {p["name"]: p for p in ports}
+    time = dict(name="time", valueReference=0, causality="independent", variability="continuous",
+                description="simulation time")
+    cs = dict(modelIdentifier=identifier, canHandleVariableCommunicationStepSize="true")
 
-    def declared(p):  # local for states and derivatives and indicators, as FMI names them
+    def declared(p):
+        """causality, variability, initial as FMI names them: states, derivatives and
+        indicators are local and calculated (outputs are calculated by default)."""
         causality = "local" if p["causality"] == "indicator" else p["causality"]
-        initial = "calculated" if causality == "local" or p.get("state") and causality == "output" else None
-        return causality, initial
+        return (causality, "continuous" if p["kind"] == "Real" else "discrete",
+                "calculated" if causality == "local" else None)
 
+    out = ['<?xml version="1.0" encoding="UTF-8"?>']
     if fmi == 2:
-        out = ["<?xml version=\"1.0\" encoding=\"UTF-8\"?>",
-               "<fmiModelDescription " + _a(fmiVersion="2.0", modelName=assembly.name, guid=token,
-                                            description=description,
-                                            generationTool=GENERATION_TOOL,
-                                            variableNamingConvention="structured",
-                                            numberOfEventIndicators=n_indicators if me else 0) + ">"]
+        out.append("<fmiModelDescription " + xml_attributes(
+            fmiVersion="2.0", modelName=assembly.name, guid=token, description=description,
+            generationTool=GENERATION_TOOL, variableNamingConvention="structured",
+            numberOfEventIndicators=n_indicators if me else 0) + ">")
         if me:
-            out.append("  <ModelExchange " + _a(modelIdentifier=identifier,
-                                                canNotUseMemoryManagementFunctions="true") + "/>")
-        out += ["  <CoSimulation " + _a(modelIdentifier=identifier,
-                                        canHandleVariableCommunicationStepSize="true",
-                                        canNotUseMemoryManagementFunctions="true") + "/>",
+            out.append(_element(1, "ModelExchange", modelIdentifier=identifier,
+                                canNotUseMemoryManagementFunctions="true"))
+        out += [_element(1, "CoSimulation", **cs, canNotUseMemoryManagementFunctions="true"),
                 *head, "  <ModelVariables>",
-                "    <ScalarVariable " + _a(name="time", valueReference=0, causality="independent",
-                                            variability="continuous",
-                                            description="simulation time") + "><Real unit=\"s\"/>"
-                "</ScalarVariable>"]
+                _element(2, "ScalarVariable", '<Real unit="s"/>', **time)]
         index = {p["vr"]: i + 2 for i, p in enumerate(ports)}  # 1-based, time first
         for p in ports:
-            causality, initial = declared(p)
+            causality, variability, initial = declared(p)
             derivative = index[by_name[p["derivative_of"]]["vr"]] if p["derivative_of"] else None
-            typed = _a(start=p["start"], unit=p["unit"] if p["kind"] == "Real" else None,
-                       derivative=derivative)
-            out.append("    <ScalarVariable " + _a(
-                name=p["name"], valueReference=p["vr"], causality=causality,
-                variability="continuous" if p["kind"] == "Real" else "discrete", initial=initial,
-                description=p["description"]) + f"><{p['kind']} {typed}/></ScalarVariable>")
+            typed = _element(0, p["kind"], start=p["start"], derivative=derivative,
+                             unit=p["unit"] if p["kind"] == "Real" else None)
+            out.append(_element(2, "ScalarVariable", typed, name=p["name"], valueReference=p["vr"],
+                                causality=causality, variability=variability, initial=initial,
+                                description=p["description"]))
         out += ["  </ModelVariables>", "  <ModelStructure>"]
         for element, rows in (("Outputs", outputs), ("Derivatives", derivatives),
                               ("InitialUnknowns", unknowns)):
             if rows:
-                out += [f"    <{element}>",
-                        *(f"      <Unknown index=\"{index[p['vr']]}\"/>" for p in rows),
-                        f"    </{element}>"]
+                out += [f"    <{element}>", *(_element(3, "Unknown", index=index[p["vr"]])
+                                              for p in rows), f"    </{element}>"]
         out += ["  </ModelStructure>", "</fmiModelDescription>"]
         return "\n".join(out) + "\n"
-    out = ["<?xml version=\"1.0\" encoding=\"UTF-8\"?>",
-           "<fmiModelDescription " + _a(fmiVersion="3.0", modelName=assembly.name,
-                                        instantiationToken=token, description=description,
-                                        generationTool=GENERATION_TOOL,
-                                        variableNamingConvention="structured") + ">"]
+    out.append("<fmiModelDescription " + xml_attributes(
+        fmiVersion="3.0", modelName=assembly.name, instantiationToken=token,
+        description=description, generationTool=GENERATION_TOOL,
+        variableNamingConvention="structured") + ">")
+    no_state = dict(canGetAndSetFMUState="false", canSerializeFMUState="false")
     if me:
-        out.append("  <ModelExchange " + _a(modelIdentifier=identifier,
-                                            canGetAndSetFMUState="false",
-                                            canSerializeFMUState="false") + "/>")
-    out += ["  <CoSimulation " + _a(modelIdentifier=identifier,
-                                    canHandleVariableCommunicationStepSize="true",
-                                    canGetAndSetFMUState="false", canSerializeFMUState="false",
-                                    providesDirectionalDerivative="false",
-                                    hasEventMode="false") + "/>",
-            *head, "  <ModelVariables>",
-            "    <Float64 " + _a(name="time", valueReference=0, causality="independent",
-                                 variability="continuous", description="simulation time",
-                                 unit="s") + "/>"]
+        out.append(_element(1, "ModelExchange", modelIdentifier=identifier, **no_state))
+    out += [_element(1, "CoSimulation", **cs, **no_state, providesDirectionalDerivative="false",
+                     hasEventMode="false"),
+            *head, "  <ModelVariables>", _element(2, "Float64", **time, unit="s")]
     for p in ports:
         tag = "Float64" if p["kind"] == "Real" else "Int32"
-        causality, initial = declared(p)
+        causality, variability, initial = declared(p)
         derivative = by_name[p["derivative_of"]]["vr"] if p["derivative_of"] else None
-        out.append(f"    <{tag} " + _a(
-            name=p["name"], valueReference=p["vr"], causality=causality,
-            variability="continuous" if tag == "Float64" else "discrete", initial=initial,
-            description=p["description"], start=p["start"],
-            unit=p["unit"] if tag == "Float64" else None, derivative=derivative) + "/>")
+        out.append(_element(2, tag, name=p["name"], valueReference=p["vr"], causality=causality,
+                            variability=variability, initial=initial,
+                            description=p["description"], start=p["start"],
+                            unit=p["unit"] if tag == "Float64" else None, derivative=derivative))
     out += ["  </ModelVariables>", "  <ModelStructure>",
-            *(f"    <Output valueReference=\"{p['vr']}\"/>" for p in outputs),
-            *(f"    <ContinuousStateDerivative valueReference=\"{p['vr']}\"/>" for p in derivatives),
-            *(f"    <InitialUnknown valueReference=\"{p['vr']}\"/>" for p in unknowns),
-            *(f"    <EventIndicator valueReference=\"{p['vr']}\"/>" for p in indicators),
+            *(_element(2, "Output", valueReference=p["vr"]) for p in outputs),
+            *(_element(2, "ContinuousStateDerivative", valueReference=p["vr"])
+              for p in derivatives),
+            *(_element(2, "InitialUnknown", valueReference=p["vr"]) for p in unknowns),
+            *(_element(2, "EventIndicator", valueReference=p["vr"]) for p in indicators),
             "  </ModelStructure>", "</fmiModelDescription>"]
     return "\n".join(out) + "\n"
 
@@ -365,21 +353,9 @@ def _sources(fmi: int) -> list[Path]:
 def library(fmi: int) -> Path:
     """The assembly FMU's binary for FMI `fmi`, built now if these sources never were
     here: the same library serves every assembly (what differs is in resources/)."""
-    h = hashlib.sha256()
-    for p in _sources(fmi):
-        h.update(p.name.encode() + b"\0" + p.read_bytes() + b"\0")
-    h.update(" ".join(CFLAGS).encode())
-    target = cache_dir() / "assembly" / f"assembly-fmi{fmi}-{h.hexdigest()[:16]}.so"
-    if not target.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(prefix="mechfmu-assembly-") as tmp:
-            partial = Path(tmp) / "assembly.so"
-            compile_library([p for p in _sources(fmi) if p.suffix == ".c"], partial,
-                            [FMU_C_DIR, C_DIR, RUNTIME_DIR, FMI_HEADERS], "the assembly FMU",
-                            defines=["ENG_API="])
-            shutil.copyfile(partial, target.with_suffix(f".{os.getpid()}.partial"))
-            target.with_suffix(f".{os.getpid()}.partial").replace(target)  # atomic
-    return target
+    return cached_library("assembly", f"assembly-fmi{fmi}", _sources(fmi),
+                          [FMU_C_DIR, C_DIR, RUNTIME_DIR, FMI_HEADERS], "the assembly FMU",
+                          defines=["ENG_API="])
 
 
 __all__ = ["export_fmu"]

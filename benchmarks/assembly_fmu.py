@@ -10,7 +10,7 @@ CVode at relative tolerance 1e-10). The deviation is the largest difference of a
 recorded column from the Python-side run with the same settings, weighed by max(1, the
 column's largest |value|); the stated accuracy is round-off (1e-12) where the FMU runs
 the same master on the same steps, and 1e4 x the tolerance where fmpy's CVode integrates
-(its global error is not bounded by its tolerance). Wall times are the least of three
+(its global error is not bounded by its tolerance). Wall times are the least of a few
 calls (the machine is shared); the fmpy side includes its per-run setup.
 """
 from __future__ import annotations
@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import json
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -30,18 +29,11 @@ from assemblies.engine.me import simulate_me
 from assemblies.fmu_export import export_fmu
 from assemblies.scenes import scene
 
+from .chain import best_of
+
 SCENES = ("stick_slip", "two_block_belt", "beam_friction_damper", "conveyor", "moving_table",
           "axle_motor", "speed_control")
 CVODE_TOLERANCE = 1e-10
-
-
-def best_of(run, n=3):
-    times, result = [], None
-    for _ in range(n):
-        started = time.perf_counter()
-        result = run()
-        times.append(time.perf_counter() - started)
-    return min(times), result
 
 
 def deviation(fmu_result, python_result, columns) -> float:

@@ -98,6 +98,32 @@ def compile_library(c_files: list[Path], library: Path, include_dirs: list[Path]
         raise BuildError(f"gcc failed for {what}:\n{result.stderr}")
 
 
+def token_from_digest(digest: str) -> str:
+    """A GUID-shaped instantiation token from a hex content digest: the same content,
+    the same token."""
+    return "{%s-%s-%s-%s-%s}" % (digest[:8], digest[8:12], digest[12:16], digest[16:20],
+                                 digest[20:32])
+
+
+def cached_library(folder: str, stem: str, sources: list[Path], include_dirs: list[Path],
+                   what: str, defines: list[str] = ()) -> Path:
+    """The shared library compiled from `sources` (C files and the headers they include),
+    in the cache under folder/stem-<hash>.so; built now only if this content, these
+    defines and the compiler flags have never been built here."""
+    h = hashlib.sha256()
+    for path in sources:
+        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    h.update(" ".join([*CFLAGS, *defines]).encode())
+    target = cache_dir() / folder / f"{stem}-{h.hexdigest()[:16]}.so"
+    if not target.exists():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        partial = target.with_suffix(f".{os.getpid()}.partial")
+        compile_library([p for p in sources if p.suffix == ".c"], partial, include_dirs, what,
+                        defines)
+        partial.replace(target)  # atomic: a parallel build never loads half a library
+    return target
+
+
 def build_fmu(component: Component, output: str | os.PathLike | None = None,
               fmi_version: int = 3, tolerance: float = 1e-8) -> Path:
     """Build (or fetch from the cache) the FMI 2.0 or 3.0 FMU of `component` under its profile.
@@ -115,7 +141,7 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
                             fmi_version=fmi_version, source_files=tuple(_source_names(fmi_version)))
     html = documentation_html(model, identifier, fmi_version)
     digest = content_hash(f"fmi{fmi_version}", c_source, xml, html)
-    token = "{%s-%s-%s-%s-%s}" % (digest[:8], digest[8:12], digest[12:16], digest[16:20], digest[20:32])
+    token = token_from_digest(digest)
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     if not cached.exists():
         _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token),

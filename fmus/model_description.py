@@ -81,7 +81,8 @@ def model_structure(model: FlatModel, table: list[ModelVariable]) -> Structure:
     return Structure(outputs, derivatives, initial, indicators)
 
 
-def _attrs(**kw) -> str:
+def xml_attributes(**kw) -> str:
+    """name="value" pairs, quoted for XML; None leaves the attribute out."""
     return " ".join(f"{k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
 
 
@@ -139,30 +140,30 @@ def shared_head(units: set[str], stop_time: float, tolerance: float | None = Non
     out = ["  <UnitDefinitions>"]
     for unit in sorted(units):
         if foreign_units and unit not in UNITS:
-            out.append(f"    <Unit {_attrs(name=unit)}/>")
+            out.append(f"    <Unit {xml_attributes(name=unit)}/>")
             continue
-        display = "".join(f"<DisplayUnit {_attrs(name=n, factor=repr(f))}/>"
+        display = "".join(f"<DisplayUnit {xml_attributes(name=n, factor=repr(f))}/>"
                           for n, f in DISPLAY_UNITS.get(unit, ()))
-        out.append(f"    <Unit {_attrs(name=unit)}><BaseUnit {_attrs(**unit_exponents(unit))}/>"
+        out.append(f"    <Unit {xml_attributes(name=unit)}><BaseUnit {xml_attributes(**unit_exponents(unit))}/>"
                    f"{display}</Unit>")
     out += ["  </UnitDefinitions>", "  <LogCategories>"]
-    out += [f"    <Category {_attrs(name=n, description=d)}/>" for n, d in LOG_CATEGORIES]
+    out += [f"    <Category {xml_attributes(name=n, description=d)}/>" for n, d in LOG_CATEGORIES]
     out += ["  </LogCategories>",
-            "  <DefaultExperiment " + _attrs(startTime=0.0, stopTime=stop_time,
+            "  <DefaultExperiment " + xml_attributes(startTime=0.0, stopTime=stop_time,
                                              tolerance=tolerance, stepSize=step) + "/>"]
     return out
 
 
 def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
-    out = ["<fmiModelDescription " + _attrs(
+    out = ["<fmiModelDescription " + xml_attributes(
                fmiVersion="3.0", modelName=identifier, instantiationToken=token,
                description=model.component.describe(), generationTool=GENERATION_TOOL,
                variableNamingConvention="structured") + ">",
-           "  <ModelExchange " + _attrs(modelIdentifier=identifier, canGetAndSetFMUState="true",
+           "  <ModelExchange " + xml_attributes(modelIdentifier=identifier, canGetAndSetFMUState="true",
                                         canSerializeFMUState="true",
                                         providesDirectionalDerivatives="true",
                                         providesAdjointDerivatives="true") + "/>",
-           "  <CoSimulation " + _attrs(modelIdentifier=identifier,
+           "  <CoSimulation " + xml_attributes(modelIdentifier=identifier,
                                        canHandleVariableCommunicationStepSize="true",
                                        providesIntermediateUpdate="true",
                                        mightReturnEarlyFromDoStep="true",
@@ -175,7 +176,7 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
         tag = "Int32" if r.is_integer else "Float64"
         variability = r.variability if r.causality != "independent" else "continuous"
         lo, hi, description = _range(model, r)
-        attrs = _attrs(name=r.name, valueReference=r.vr, description=description or None,
+        attrs = xml_attributes(name=r.name, valueReference=r.vr, description=description or None,
                        causality=r.causality, variability=variability, initial=_initial(r),
                        start=_start(r), unit=(r.unit or None) if not r.is_integer else None,
                        displayUnit=_display_unit(r), min=lo, max=hi, nominal=_nominal(r),
@@ -186,12 +187,12 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
     def deps(vrs):
         return None if vrs is None else " ".join(map(str, vrs))
 
-    out += [f"    <Output {_attrs(valueReference=r.vr, dependencies=deps(d))}/>"
+    out += [f"    <Output {xml_attributes(valueReference=r.vr, dependencies=deps(d))}/>"
             for r, d in structure.outputs]
-    out += [f"    <ContinuousStateDerivative {_attrs(valueReference=r.vr, dependencies=deps(d))}/>"
+    out += [f"    <ContinuousStateDerivative {xml_attributes(valueReference=r.vr, dependencies=deps(d))}/>"
             for r, d in structure.derivatives]
-    out += [f"    <InitialUnknown {_attrs(valueReference=r.vr)}/>" for r in structure.initial_unknowns]
-    out += [f"    <EventIndicator {_attrs(valueReference=r.vr, dependencies=deps(d))}/>"
+    out += [f"    <InitialUnknown {xml_attributes(valueReference=r.vr)}/>" for r in structure.initial_unknowns]
+    out += [f"    <EventIndicator {xml_attributes(valueReference=r.vr, dependencies=deps(d))}/>"
             for r, d in structure.indicators]
     return out + ["  </ModelStructure>"]
 
@@ -203,30 +204,30 @@ def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> 
                   canSerializeFMUstate="true", canNotUseMemoryManagementFunctions="true",
                   providesDirectionalDerivative="true")
     # the C files under sources/, listed per interface as FMI 2 wants (no buildDescription.xml)
-    files = "".join(f"<File {_attrs(name=f)}/>" for f in source_files)
+    files = "".join(f"<File {xml_attributes(name=f)}/>" for f in source_files)
     sources = f"<SourceFiles>{files}</SourceFiles></" if source_files else None
-    out = ["<fmiModelDescription " + _attrs(
+    out = ["<fmiModelDescription " + xml_attributes(
                fmiVersion="2.0", modelName=identifier, guid=token,
                description=model.component.describe(), generationTool=GENERATION_TOOL,
                variableNamingConvention="structured",
                numberOfEventIndicators=len(structure.indicators)) + ">",
-           "  <ModelExchange " + _attrs(**common) + (f">{sources}ModelExchange>" if sources else "/>"),
+           "  <ModelExchange " + xml_attributes(**common) + (f">{sources}ModelExchange>" if sources else "/>"),
            # inputs are extrapolated inside the step from the flange's own velocity and
            # acceleration inputs, not from fmi2SetRealInputDerivatives
-           "  <CoSimulation " + _attrs(**common, canHandleVariableCommunicationStepSize="true",
+           "  <CoSimulation " + xml_attributes(**common, canHandleVariableCommunicationStepSize="true",
                                        canInterpolateInputs="false")
            + (f">{sources}CoSimulation>" if sources else "/>"),
            *head, "  <ModelVariables>"]
     for r in listed:
         lo, hi, description = _range(model, r)
-        out.append("    <ScalarVariable " + _attrs(
+        out.append("    <ScalarVariable " + xml_attributes(
             name=r.name, valueReference=r.vr, description=description or None,
             causality=r.causality, variability=r.variability, initial=_initial(r)) + ">")
         if r.is_integer:
-            typed = _attrs(start=_start(r))
+            typed = xml_attributes(start=_start(r))
         else:
             derivative = index[r.derivative_of] if r.derivative_of is not None else None
-            typed = _attrs(start=_start(r), unit=r.unit or None, displayUnit=_display_unit(r),
+            typed = xml_attributes(start=_start(r), unit=r.unit or None, displayUnit=_display_unit(r),
                            min=lo, max=hi, nominal=_nominal(r), derivative=derivative)
         tag = "Integer" if r.is_integer else "Real"
         out.append(f"      <{tag}{' ' + typed if typed else ''}/>")
@@ -239,7 +240,7 @@ def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> 
         lines = [f"    <{element}>"]
         for r, d in rows:
             deps = None if d is None else " ".join(str(index[vr]) for vr in d)
-            lines.append(f"      <Unknown {_attrs(index=index[r.vr], dependencies=deps)}/>")
+            lines.append(f"      <Unknown {xml_attributes(index=index[r.vr], dependencies=deps)}/>")
         return lines + [f"    </{element}>"]
 
     out += unknowns("Outputs", structure.outputs)

@@ -90,10 +90,7 @@ class Keep(list):
 def instance_spec(keep: Keep, name: str, fmu, identifier: str, starts: dict,
                   event_outputs: list[str] = ()) -> InstanceSpec:
     """One instance: the extracted FMU, and its parameters and start values by name."""
-    floats = [(fmu.variable(name, k)[0], float(v)) for k, v in starts.items()
-              if not fmu.variable(name, k)[1]]
-    ints = [(fmu.variable(name, k)[0], int(v)) for k, v in starts.items()
-            if fmu.variable(name, k)[1]]
+    floats, ints = fmu.typed_starts(name, starts)
     outs = [fmu.variable(name, v) for v in event_outputs]
     s = InstanceSpec()
     s.unzip_dir, s.model_identifier = fmu.unzip_dir.encode(), identifier.encode()

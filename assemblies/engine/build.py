@@ -9,11 +9,9 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import hashlib
-import os
 from pathlib import Path
 
-from fmus.build import CFLAGS, FMI_HEADERS, RUNTIME_DIR, cache_dir, compile_library
+from fmus.build import FMI_HEADERS, RUNTIME_DIR, cached_library
 
 C_DIR = Path(__file__).parent / "c"
 # the FMU runtime's sources the engine links: solvers, their LU, event location
@@ -29,18 +27,8 @@ def sources() -> list[Path]:
 
 def library_path() -> Path:
     """The compiled library, built now if this content has never been built here."""
-    h = hashlib.sha256()
-    for path in sources():
-        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
-    h.update(" ".join(CFLAGS).encode())
-    target = cache_dir() / "engine" / f"libmfengine-{h.hexdigest()[:16]}.so"
-    if not target.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        partial = target.with_suffix(f".{os.getpid()}.partial")
-        compile_library([p for p in sources() if p.suffix == ".c"], partial,
-                        [C_DIR, RUNTIME_DIR, FMI_HEADERS], "the engine")
-        partial.replace(target)  # atomic: a parallel build never loads half a library
-    return target
+    return cached_library("engine", "libmfengine", sources(), [C_DIR, RUNTIME_DIR, FMI_HEADERS],
+                          "the engine")
 
 
 @functools.lru_cache(maxsize=None)

@@ -58,6 +58,15 @@ class PreparedFmu:
             raise AssemblyError(f"{instance} has no variable '{name}'")
         return self.variables[name]
 
+    def typed_starts(self, instance: str, starts: dict) -> tuple[list, list]:
+        """Parameters and start values by name as ([(vr, float)], [(vr, int)]): the two
+        value types the FMI calls set separately."""
+        floats, ints = [], []
+        for name, value in starts.items():
+            vr, is_int = self.variable(instance, name)
+            (ints if is_int else floats).append((vr, int(value) if is_int else float(value)))
+        return floats, ints
+
 
 @functools.lru_cache(maxsize=None)
 def prepared_path(path: str, stamp: tuple = ()) -> PreparedFmu:

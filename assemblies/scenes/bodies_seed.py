@@ -390,6 +390,9 @@ def _damper_figures(result: Result, asm: Assembly) -> list[Figure]:
                    fitted, rate, fit_error)]
 
 
+_DISK_RECORD = _record("disk", ["phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "n_X",
+                                "n_Y", "n_Z", "spin", "T"])
+
 SEED_BODY_SCENES: dict[str, Scene] = {
     "cylinder_incline": Scene(
         "cylinder_incline", "seed 8.1: a uniform cylinder rolls without slip down a 30 degree "
@@ -419,16 +422,14 @@ SEED_BODY_SCENES: dict[str, Scene] = {
     "wobbling_disk": Scene(
         "wobbling_disk", "seed 8.4: a thrown disk wobbles at twice its spin rate",
         _wobbling_disk, stop_time=10.0, step=0.01, tolerance=1e-12,
-        record=_record("disk", ["phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "n_X",
-                                "n_Y", "n_Z", "spin", "T"]),
+        record=_DISK_RECORD,
         figures=_wobble_figures, picture=plot_wobble,
         seed="8.4, Eqs. 8.14–8.16", reference="steady wobble φ' = 2/cos θ0 × spin (2 × spin "
         "for small θ0); H along X; H and T conserved"),
     "thrown_disk": Scene(
         "thrown_disk", "seed 8.3.2: a disk thrown with an imperfect spin, its axis cones about H",
         _thrown_disk, stop_time=10.0, step=0.01, tolerance=1e-12,
-        record=_record("disk", ["phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "n_X",
-                                "n_Y", "n_Z", "spin", "T"]),
+        record=_DISK_RECORD,
         figures=_thrown_figures, picture=plot_wobble,
         seed="8.3.2, Eqs. 8.14–8.16", reference="the axis cones about H at |H|/I_s, "
         "2/cos b × spin (2 × spin for a small cone b); H, T and spin conserved"),
