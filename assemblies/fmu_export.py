@@ -34,7 +34,7 @@ from fmus.model_description import FMI_VERSIONS, GENERATION_TOOL, shared_head, x
 from .assembly import Assembly, AssemblyError
 from .engine.build import C_DIR, SHARED_RUNTIME
 from .engine.cosim import DEFAULT_SCHEME, EVENT_TOL, coupling_plan
-from .engine.me import EVENT_SUBSAMPLES, METHODS, step_limit_needed
+from .engine.me import EVENT_SUBSAMPLES, METHODS, integrator, step_limit_needed
 from .engine.prepare import prepared, record_columns
 from .experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                          fixed_step_fallback)
@@ -51,7 +51,7 @@ _TYPES = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Int
 def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
                outputs: list[str] | None = None, stop_time: float = 10.0, step: float = 0.01,
                tolerance: float = 1e-8, mode: str | None = None, scheme: str = "jacobi",
-               method: str = "DOPRI5", **settings) -> Path:
+               method: str | None = None, **settings) -> Path:
     """Write `assembly` as one Co-Simulation FMU (FMI `fmi` = 2 or 3) to `path`.
 
     `outputs`: the members' variables the FMU exposes (``"block.x"``; default every
@@ -90,7 +90,7 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
     if mode == "me" and settings:
         raise AssemblyError(f"export_fmu: {', '.join(sorted(settings))} set(s) the co-simulation "
                             "master; mode 'me' integrates and takes `method` and `tolerance`")
-    if method not in METHODS:
+    if method is not None and method not in METHODS:
         raise AssemblyError(f"export_fmu: method must be one of {', '.join(METHODS)}, "
                             f"not {method!r}")
     s = {**DEFAULT_SCHEME, "loop_tolerance": 1e-10, "max_loop_iterations": 20, "newton": True,
@@ -126,7 +126,7 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
             s["max_step"] = step if open_inputs or step_limit_needed(assembly) else 0.0
     finally:
         assembly.signals_from_outside = False
-    s.update(mode=mode, method=METHODS[method])
+    s.update(mode=mode, method=METHODS[integrator(assembly, method)])
     ports = _interface(assembly, fmus, plan, outputs, mode, fmi)
     config = _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s)
     token = token_from_digest(hashlib.sha256(config.encode()).hexdigest())
@@ -229,8 +229,7 @@ def _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s) 
     lines = ["mechfmu-assembly 1", "token @TOKEN@", f"mode {s['mode']}",
              line("settings", *settings), f"instances {len(fmus)}"]
     for n, fmu in fmus.items():
-        floats, ints = fmu.typed_starts(n, {**assembly.components[n].values,
-                                            **assembly.components[n].starts})
+        floats, ints = fmu.typed_starts(n, assembly.components[n].fmu_starts())
         identifier = fmu.me_identifier if s["mode"] == "me" else fmu.cs_identifier
         lines.append(line("instance", n, identifier, fmu.token, fmu.fmi_version, fmu.n_states,
                           fmu.n_event_indicators, int(fmu.can_get_set_state),

@@ -53,6 +53,10 @@ class Block:
         known = ", ".join(p.name for p in self.profiles)
         raise ComponentError(f"{self._where()}: unknown profile '{name}'; known profiles: {known}")
 
+    def fmu_starts(self) -> dict:
+        """Every value set on this instance's FMU before it initialises, by name."""
+        return {**self.values, **self.starts}
+
     def settable_names(self) -> list[str]:
         return ([p.name for p in self.parameters] + [o.name for o in self.options]
                 + [s.name for s in self.states] + [s.start_name for s in self.states if s.start_name])
@@ -117,11 +121,42 @@ class Block:
         return f"{type(self).__name__}(name={self.name!r}, profile={self.profile.name!r}, {vals})"
 
 
+#: the values of every FMU's runtime setting ``solver``, by the names a user may write
+SOLVERS = {"0": 0, "explicit": 0, "dopri5": 0, "1": 1, "implicit": 1, "rodas3": 1,
+           "2": 2, "auto": 2}
+SOLVER_CHOICES = ("0 (DOPRI5, explicit), 1 (RODAS3, implicit) or 2 (auto: switches between "
+                  "them on stiffness, the default)")
+
+
 class Component(Block):
     """A mechanical component: a Block whose physics are CasADi equations."""
     modes: tuple[Mode, ...] = ()
     #: the experiment written into the FMU's DefaultExperiment
     default_stop_time: float = 10.0
+
+    def __init__(self, name: str | None = None, profile: str | None = None, **values):
+        #: the FMU's own solver as set by the user (None: the FMU's default, auto); not a
+        #: parameter of the physics, so it is neither joined nor part of the FMU's build
+        self.solver: int | None = None
+        super().__init__(name, profile, **values)
+
+    def settable_names(self) -> list[str]:
+        return super().settable_names() + ["solver"]
+
+    def set(self, key: str, value) -> None:
+        if key != "solver":
+            return super().set(key, value)
+        text = str(value).strip().lower()
+        if text.endswith(".0"):
+            text = text[:-2]
+        if text not in SOLVERS:
+            raise ComponentError(f"{self._where()}: solver = {value!r} is not allowed; solver "
+                                 f"must be {SOLVER_CHOICES}")
+        self.solver = SOLVERS[text]
+
+    def fmu_starts(self) -> dict:
+        """Parameters, start values and the runtime settings the user chose (`solver`)."""
+        return {**super().fmu_starts(), **({} if self.solver is None else {"solver": self.solver})}
 
     def parameter_constraints(self) -> list[Constraint]:
         """Every check on the parameters, ranges included, in one list for the FMU's C check."""

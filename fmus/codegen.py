@@ -76,8 +76,9 @@ def variable_table(model: FlatModel) -> list[ModelVariable]:
     # variables so that adding one never renumbers a model's value references
     add(name="solver", kind="MF_RUNTIME", index=0, unit="",
         description="Co-Simulation solver: 0 = DOPRI5 (explicit, non-stiff), "
-                    "1 = RODAS3 (Rosenbrock, implicit, for stiff models); unused by Model Exchange",
-        start=0, is_integer=True, causality="parameter", variability="fixed", initial="exact")
+                    "1 = RODAS3 (Rosenbrock, implicit, for stiff models), 2 = automatic (DOPRI5 "
+                    "until stiffness shows, RODAS3 until it is gone); unused by Model Exchange",
+        start=2, is_integer=True, causality="parameter", variability="fixed", initial="exact")
     return rows
 
 

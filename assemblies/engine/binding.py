@@ -56,7 +56,8 @@ PROGRESS_FN = C.CFUNCTYPE(C.c_int, C.c_void_p, C.c_double)
 class Stats(C.Structure):  # eng_stats
     _fields_ = [("status", C.c_int), ("n_rows", C.c_long), ("t_end", C.c_double),
                 ("steps", C.c_long), ("rejected", C.c_long), ("rhs_calls", C.c_long),
-                ("jacobians", C.c_long), ("events", C.c_long), ("terminated_by", C.c_int),
+                ("jacobians", C.c_long), ("events", C.c_long), ("method_switches", C.c_long),
+                ("terminated_by", C.c_int),
                 ("message", C.c_char * 1024)]
 
 

@@ -15,7 +15,7 @@ from fmus.build import FMI_HEADERS, RUNTIME_DIR, cached_library
 
 C_DIR = Path(__file__).parent / "c"
 # the FMU runtime's sources the engine links: solvers, their LU, event location
-SHARED_RUNTIME = ("dense_lu", "events", "solver", "solver_implicit")
+SHARED_RUNTIME = ("dense_lu", "events", "solver", "solver_implicit", "stiffness")
 
 
 def sources() -> list[Path]:

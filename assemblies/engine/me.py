@@ -31,7 +31,10 @@ from . import binding as B
 from .build import library
 from .prepare import binary_key, prepared, prepared_composite, record_columns
 
-METHODS = {"DOPRI5": 0, "RODAS3": 1}
+#: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
+#: and back where it is gone (fmus/runtime/stiffness.h)
+METHODS = {"DOPRI5": 0, "RODAS3": 1, "auto": 2}
+_BY_SOLVER_SETTING = {0: "DOPRI5", 1: "RODAS3", 2: "auto"}
 EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
 
 
@@ -135,6 +138,7 @@ class _Plan:
             "method": method, "engine": "c", "wall_s": wall, "engine_s": wall,
             "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
             "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
+            "method_switches": stats.method_switches,
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
             "terminated": None if stats.status != B.TERMINATED else
             {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
@@ -194,12 +198,24 @@ def _plan(key, build) -> _Plan:
 
 def _check(stop_time, step, tolerance, method):
     check_experiment(stop_time, step, tolerance, "output step")
-    if method not in METHODS:
+    if method is not None and method not in METHODS:
         raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
 
 
+def integrator(assembly: Assembly, method: str | None) -> str:
+    """The one integrator for every instance: `method` where given; else what the
+    instances' `solver` settings ask (one that needs the implicit method gets it for
+    all, since a stiff member makes the joined system stiff); else "auto"."""
+    if method is not None:
+        return method
+    asked = {getattr(c, "solver", None) for c in assembly.components.values()} - {None}
+    if 1 in asked:
+        return "RODAS3"
+    return _BY_SOLVER_SETTING[asked.pop()] if len(asked) == 1 else "auto"
+
+
 def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-8,
-                record: list[str] | None = None, method: str = "DOPRI5",
+                record: list[str] | None = None, method: str | None = None,
                 progress: Callable[[float], None] | None = None,
                 event_subsamples: int = EVENT_SUBSAMPLES, fmi_version: int = 3) -> Result:
     """Integrate `assembly` as Model Exchange FMUs in the engine; a row every `step` s.
@@ -231,8 +247,9 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
     plan = _plan(key, build)
     with plan.lock:
         plan.set_starts([{**c.values, **c.starts} for c in assembly.components.values()])
-        table, events, settings = plan.run(assembly.name, stop_time, step, tolerance, method,
-                                           progress, event_subsamples, "me")
+        table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
+                                           integrator(assembly, method), progress,
+                                           event_subsamples, "me")
     tables = {plan.names[i]: Table.from_rows(["time"] + [f"{plan.names[i]}.{v}" for v in outputs],
                                              rows)
               for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
@@ -242,7 +259,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
 
 def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                         tolerance: float = 1e-10, record: list[str] | None = None,
-                        method: str = "DOPRI5",
+                        method: str | None = None,
                         progress: Callable[[float], None] | None = None,
                         event_subsamples: int = EVENT_SUBSAMPLES) -> Result:
     """The assembly joined into one composite FMU, run by the engine as a single FMU.
@@ -291,8 +308,9 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
     with plan.lock:
         plan.set_starts([{f"{name}.{k}": v for name, c in assembly.components.items()
                           for k, v in {**c.values, **c.starts}.items()}])
-        table, events, settings = plan.run(assembly.name, stop_time, step, tolerance, method,
-                                           progress, event_subsamples, "monolithic")
+        table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
+                                           integrator(assembly, method), progress,
+                                           event_subsamples, "monolithic")
     table = {("time" if k == "time" else k.removeprefix("assembly.")): v for k, v in table.items()}
     tables = {member: Table.from_rows(["time"] + outputs, rows)
               for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)

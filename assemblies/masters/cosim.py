@@ -465,7 +465,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
 
         for inst in instances.values():
             comp = inst.component
-            for key, value in {**comp.values, **comp.starts}.items():
+            for key, value in comp.fmu_starts().items():
                 inst.set(key, value)
             inst.enter_initialization(tolerance, stop_time)
         master.consistent(0.0)

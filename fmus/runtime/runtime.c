@@ -5,6 +5,7 @@
 #include "events.h"
 #include "solver.h"
 #include "solver_implicit.h"
+#include "stiffness.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -77,6 +78,8 @@ struct mf_instance {
     mf_dopri solver;  /* DOPRI5, explicit */
     mf_ros ros;       /* RODAS3, implicit */
     int method;       /* the `solver` parameter: which of them Co-Simulation uses */
+    mf_stiffness stiff; /* the automatic choice (method MF_METHOD_AUTO) */
+    int dense_implicit; /* the last accepted step, whose dense output is valid, was RODAS3's */
 };
 
 /* ------------------------------------------------------------------------ */
@@ -217,6 +220,8 @@ static void solvers_reset(mf_instance *I)
 {
     mf_dopri_reset(&I->solver);
     mf_ros_reset(&I->ros);
+    mf_stiffness_reset(&I->stiff, I->method == MF_METHOD_IMPLICIT);
+    I->dense_implicit = I->method == MF_METHOD_IMPLICIT;
 }
 
 /* Inputs at time t. Co-Simulation extrapolates each input by its Taylor chain
@@ -761,9 +766,10 @@ static int settable(mf_instance *I, const char *fn, const mf_variable *v, uint32
         log_error(I, "%s: value %g for variable '%s' is not finite; not set", fn, val, v->name);
         return 0;
     }
-    if (v->kind == MF_RUNTIME && !(val == 0.0 || val == 1.0)) {
-        log_error(I, "%s: '%s' must be 0 (DOPRI5, explicit) or 1 (RODAS3, implicit), got %g",
-                  fn, v->name, val);
+    if (v->kind == MF_RUNTIME && !(val == MF_METHOD_EXPLICIT || val == MF_METHOD_IMPLICIT
+                                   || val == MF_METHOD_AUTO)) {
+        log_error(I, "%s: '%s' must be 0 (DOPRI5, explicit), 1 (RODAS3, implicit) or 2 "
+                     "(automatic: switches between them on stiffness), got %g", fn, v->name, val);
         return 0;
     }
     return 1;
@@ -1097,23 +1103,50 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
 }
 
 /* The selected method's step, in the explicit solver's result codes (the two
-   enums share their meaning). Both leave (t, x) unchanged on failure. */
+   enums share their meaning). Both leave (t, x) unchanged on failure. With the
+   automatic choice, the step's own stiffness evidence picks the next step's method,
+   which starts from the step size the other one reached. */
 static mf_dopri_result solver_step(mf_instance *I, double t_end, double h_initial)
 {
-    if (I->method == 1) {
+    const int automatic = I->method == MF_METHOD_AUTO;
+    mf_dopri_result r;
+    if (I->method == MF_METHOD_IMPLICIT || (automatic && I->stiff.implicit)) {
+        double t0 = I->t;
         switch (mf_ros_step(&I->ros, rhs, jacobian, I, &I->t, I->x, t_end, I->rtol, h_initial)) {
-        case MF_ROS_OK: return MF_DOPRI_OK;
+        case MF_ROS_OK: break;
         case MF_ROS_RHS_FAILED: return MF_DOPRI_RHS_FAILED;
         default: return MF_DOPRI_STEP_UNDERFLOW;
         }
+        I->dense_implicit = 1;
+        /* the Jacobian is the step's start's: weigh it with the start point */
+        if (automatic && mf_stiffness_after_implicit(&I->stiff, I->t - t0, I->ros.jac,
+                                                     I->ros.dx0, I->m->n_x, I->rtol)) {
+            mf_dopri_restart(&I->solver);
+            I->solver.h_guess = I->ros.h_guess;
+        }
+        return MF_DOPRI_OK;
     }
-    return mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h_initial);
+    r = mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h_initial);
+    if (r != MF_DOPRI_OK) return r;
+    I->dense_implicit = 0;
+    if (automatic && mf_stiffness_after_explicit(&I->stiff, I->solver.h_lambda)) {
+        mf_ros_restart(&I->ros);
+        I->ros.h_guess = I->solver.h_guess;
+    }
+    return MF_DOPRI_OK;
 }
 
-/* the selected method's dense output over its last accepted step */
+static const char *method_name(const mf_instance *I)
+{
+    if (I->method == MF_METHOD_AUTO)
+        return I->stiff.implicit ? "automatic, now RODAS3" : "automatic, now DOPRI5";
+    return I->method == MF_METHOD_IMPLICIT ? "RODAS3" : "DOPRI5";
+}
+
+/* the dense output over the last accepted step, of the method that took it */
 static void solver_dense(const mf_instance *I, double t, double *x)
 {
-    if (I->method == 1) mf_ros_dense(&I->ros, t, x);
+    if (I->dense_implicit) mf_ros_dense(&I->ros, t, x);
     else mf_dopri_dense(&I->solver, t, x);
 }
 
@@ -1258,7 +1291,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     solver_work(I, &rhs1, &rej1, &jac1);
     log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %s: %ld steps, %ld rejected, %ld derivative "
                             "evaluations, %ld Jacobians, %ld events", fn, t, t_end,
-             I->method == 1 ? "RODAS3" : "DOPRI5", steps, rej1 - rej0, rhs1 - rhs0,
+             method_name(I), steps, rej1 - rej0, rhs1 - rhs0,
              jac1 - jac0, events);
     if (last_time) *last_time = t_end;
     return MF_OK;
@@ -1397,7 +1430,8 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
 /* A snapshot is everything dynamic, as one flat array of doubles. */
 #define SNAP_MAGIC 0x4d465331u /* "MFS1" */
 enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED,
-       S_METHOD, S_HGUESS_ROS, S_HEADER };
+       S_METHOD, S_HGUESS_ROS, S_STIFF_IMPLICIT, S_STIFF_VOTES, S_STIFF_AGAINST, S_STIFF_SWITCHES,
+       S_DENSE_IMPLICIT, S_HEADER };
 
 typedef struct {
     unsigned magic;
@@ -1473,6 +1507,11 @@ mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
     d[S_FAILED] = I->failed;
     d[S_METHOD] = I->method;
     d[S_HGUESS_ROS] = I->ros.h_guess;
+    d[S_STIFF_IMPLICIT] = I->stiff.implicit;
+    d[S_STIFF_VOTES] = I->stiff.votes;
+    d[S_STIFF_AGAINST] = I->stiff.against;
+    d[S_STIFF_SWITCHES] = (double)I->stiff.switches;
+    d[S_DENSE_IMPLICIT] = I->dense_implicit;
     d += S_HEADER;
     copy_block(d, I->x, m->n_x); d += m->n_x;
     copy_block(d, I->q, m->n_q); d += m->n_q;
@@ -1500,7 +1539,8 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     I->phase = (int)d[S_PHASE];
     I->inputs_changed = (int)d[S_INCHANGED];
     I->failed = (int)d[S_FAILED];
-    I->method = d[S_METHOD] == 1.0 ? 1 : 0;
+    I->method = d[S_METHOD] == MF_METHOD_IMPLICIT ? MF_METHOD_IMPLICIT
+                : d[S_METHOD] == MF_METHOD_AUTO ? MF_METHOD_AUTO : MF_METHOD_EXPLICIT;
     d += S_HEADER;
     copy_block(I->x, d, m->n_x); d += m->n_x;
     copy_block(I->q, d, m->n_q); d += m->n_q;
@@ -1512,6 +1552,11 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     I->solver.h_guess = s->d[S_HGUESS];
     I->solver.facold = s->d[S_FACOLD];
     I->ros.h_guess = s->d[S_HGUESS_ROS];
+    I->stiff.implicit = s->d[S_STIFF_IMPLICIT] != 0.0;
+    I->stiff.votes = (int)s->d[S_STIFF_VOTES];
+    I->stiff.against = (int)s->d[S_STIFF_AGAINST];
+    I->stiff.switches = (long)s->d[S_STIFF_SWITCHES];
+    I->dense_implicit = s->d[S_DENSE_IMPLICIT] != 0.0;
     invalidate(I);
     return MF_OK;
 }

@@ -86,6 +86,20 @@ static int eval(mf_dopri *s, mf_rhs_fn f, void *ctx, double t, const double *x, 
     return f(ctx, t, x, dx) == 0 && all_finite(dx, s->n);
 }
 
+/* Hairer's stiffness test: h |lambda| from the last two stages, which share their
+   time t0 + h (xs holds stage 6's argument, xn the solution; k6, k7 their slopes) */
+static double stiffness_estimate(const mf_dopri *s, double h)
+{
+    double num = 0.0, den = 0.0;
+    int i;
+    for (i = 0; i < s->n; i++) {
+        double df = s->k[6][i] - s->k[5][i], dx = s->xn[i] - s->xs[i];
+        num += df * df;
+        den += dx * dx;
+    }
+    return den > 0.0 ? h * sqrt(num / den) : 0.0;
+}
+
 mf_dopri_result mf_dopri_step(mf_dopri *s, mf_rhs_fn f, void *ctx, double *t, double *x,
                               double t_end, double rtol, double h_initial)
 {
@@ -185,6 +199,7 @@ mf_dopri_result mf_dopri_step(mf_dopri *s, mf_rhs_fn f, void *ctx, double *t, do
             hnew = h / fac;
             if (rejected) hnew = fmin(hnew, h);
             s->facold = fmax(err, 1e-4);
+            s->h_lambda = stiffness_estimate(s, h);
 
             for (i = 0; i < n; i++) {
                 double dx = xn[i] - x[i];

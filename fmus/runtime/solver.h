@@ -28,6 +28,7 @@ typedef struct {
     double h_guess;      /* controller's proposal for the next step; 0 = none yet */
     double facold;       /* previous error norm, for the PI controller */
     int fsal_valid;      /* k[0] belongs to the current (t, x) */
+    double h_lambda;     /* the last accepted step's stiffness estimate h |lambda| */
     long n_rejected;     /* statistics, for logging */
     long n_rhs;
 } mf_dopri;

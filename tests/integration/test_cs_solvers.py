@@ -1,10 +1,13 @@
-"""The two embedded Co-Simulation solvers, selected by the runtime's `solver` parameter.
+"""The two embedded Co-Simulation solvers, selected by the runtime's `solver` parameter,
+and the automatic choice between them (the default).
 
 DOPRI5 (0, explicit) and RODAS3 (1, Rosenbrock with CasADi's Jacobian) must give the
 same answer to the tolerance where both work — the exact Coulomb cases of seed 9.2
 and 9.4, events included — and RODAS3 must be far cheaper where the model is stiff:
 the tanh friction law (seed Eq. 9.7) with eps = 1e-6, whose slope at v = 0 makes
-d a / d v about -1e6 while the block creeps.
+d a / d v about -1e6 while the block creeps. The automatic choice (2) must find that
+stiffness by itself (switching to RODAS3 and back as the block sticks and slips) and
+cost about what RODAS3 does, and must be DOPRI5 itself where nothing is stiff.
 """
 import re
 
@@ -22,7 +25,7 @@ from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference, exact_frict
 from fmus import build_fmu
 
 VERSIONS = (2, 3)
-DOPRI5, RODAS3 = 0, 1
+DOPRI5, RODAS3, AUTO = 0, 1, 2
 WORK = re.compile(r"(\d+) steps, (\d+) rejected, (\d+) derivative evaluations, "
                   r"(\d+) Jacobians, (\d+) events")
 STEEP = dict(m=1, k=1, g=1, mu_k=0.3, mu_s=0.4, friction="tanh", eps=1e-6)
@@ -95,7 +98,7 @@ def test_steep_friction_is_far_cheaper_implicitly_and_both_are_right(version):
     block = SpringBlock(**STEEP)
     ref = _cvodes_reference(block, SEED_94_SPEED, 20.0)
     runs = {s: _run(block, version, s, 1e-8, 20.0, 0.1, {"flange_a.v": SEED_94_SPEED})
-            for s in (DOPRI5, RODAS3)}
+            for s in (DOPRI5, RODAS3, AUTO)}
     for solver, (x, v, work) in runs.items():
         assert abs(x - ref[0]) < 1e-6 and abs(v - ref[1]) < 1e-6, (solver, x - ref[0], v - ref[1])
     if version == 2:
@@ -107,6 +110,22 @@ def test_steep_friction_is_far_cheaper_implicitly_and_both_are_right(version):
     assert implicit["steps"] * 100 < explicit["steps"], (explicit, implicit)
     assert implicit["jac"] == implicit["steps"]  # one per step; rejections reuse it
     assert explicit["jac"] == 0
+    # the automatic choice finds the stiffness itself: within a small factor of RODAS3
+    automatic = runs[AUTO][2]
+    assert automatic["rhs"] < 3 * implicit["rhs"] + 1000, (automatic, implicit)
+    assert 0 < automatic["jac"] < automatic["steps"], automatic  # it went both ways
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_automatic_choice_is_dopri5_itself_where_nothing_is_stiff(version):
+    """Seed 9.4 stick-slip (exact Coulomb, events): DOPRI5's steps are accuracy-bound, its
+    stiffness test never fires, and the automatic run repeats DOPRI5's bit for bit."""
+    block = SpringBlock(**SEED_94)
+    explicit, automatic = (_run(block, version, s, 1e-8, 20.0, 0.1, {"flange_a.v": SEED_94_SPEED})
+                           for s in (DOPRI5, AUTO))
+    assert explicit == automatic
+    if version == 3:
+        assert automatic[2]["jac"] == 0 and automatic[2]["events"] >= 2, automatic
 
 
 @pytest.mark.parametrize("version", VERSIONS)
@@ -140,20 +159,21 @@ def test_both_solvers_follow_stick_slip_with_its_events(version):
 
 
 @pytest.mark.parametrize("version", VERSIONS)
-def test_solver_is_a_fixed_parameter_with_two_values(version):
+def test_solver_is_a_fixed_parameter_with_three_values(version):
     block = SpringBlock()
     md = read_model_description(str(build_fmu(block, fmi_version=version)))
     solver = md.modelVariables[-1]
     assert (solver.name, solver.causality, solver.variability, solver.start) == \
-        ("solver", "parameter", "fixed", "0")
+        ("solver", "parameter", "fixed", "2")
     assert solver.valueReference == max(v.valueReference for v in md.modelVariables)
     messages = []
     fmu, vr = _open(block, version, messages.append)
     set_int = fmu.setInteger if version == 2 else fmu.setInt32
     with pytest.raises(FMICallException):
-        set_int([vr["solver"]], [2])
+        set_int([vr["solver"]], [3])
     if version == 3:
-        assert b"must be 0 (DOPRI5, explicit) or 1 (RODAS3, implicit)" in messages[-1]
+        assert (b"must be 0 (DOPRI5, explicit), 1 (RODAS3, implicit) or 2 (automatic: "
+                b"switches between them on stiffness)") in messages[-1]
     set_int([vr["solver"]], [1])
     if version == 2:
         fmu.setupExperiment(startTime=0.0)

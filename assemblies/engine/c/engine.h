@@ -75,13 +75,15 @@ typedef struct {
 typedef int (*eng_progress_fn)(void *ctx, double t);
 
 enum { ENG_DONE = 0, ENG_STOPPED = 1, ENG_TERMINATED = 2, ENG_FAILED = -1 };
-enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1 };
+/* ENG_AUTO: DOPRI5 until stiffness shows, then RODAS3 until it is gone (stiffness.h) */
+enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1, ENG_AUTO = 2 };
 
 typedef struct {
     int status;           /* ENG_DONE, ENG_STOPPED, ENG_TERMINATED or ENG_FAILED */
     long n_rows;          /* output rows written (all of them when ENG_DONE) */
     double t_end;         /* the time the run reached */
     long steps, rejected, rhs_calls, jacobians, events;
+    long method_switches; /* between DOPRI5 and RODAS3, with ENG_AUTO */
     int terminated_by;    /* the instance that ended the run (ENG_TERMINATED), else -1 */
     char message[1024];   /* the error (ENG_FAILED) or the terminating FMU's last message */
 } eng_stats;
@@ -99,7 +101,7 @@ typedef struct {
     const double *times;           /* increasing, from 0 */
     double *out;                   /* n_times x n_columns, row-major */
     double stop_time, tolerance;   /* tolerance: relative = absolute error of the solver */
-    int method;                    /* ENG_DOPRI5 or ENG_RODAS3 */
+    int method;                    /* ENG_DOPRI5, ENG_RODAS3 or ENG_AUTO */
     int event_subsamples;          /* interior points scanned per step for double crossings */
     double max_step;               /* the longest step; 0: no limit */
     eng_progress_fn progress;      /* may be NULL */

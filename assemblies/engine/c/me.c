@@ -23,6 +23,7 @@
 #include "output.h"
 #include "solver.h"
 #include "solver_implicit.h"
+#include "stiffness.h"
 
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_EVENTS 1000000L
@@ -52,6 +53,8 @@ typedef struct {
     int *group_changed;          /* event groups with an indicator that crossed at this event */
     mf_dopri dopri;
     mf_ros ros;
+    mf_stiffness stiff;   /* which of the two takes the next step */
+    int dense_implicit;   /* the last accepted step was RODAS3's */
     double t_set;         /* the point the instances were last set to */
     int set_valid;
     long k_out;           /* next output row */
@@ -214,7 +217,7 @@ static int indicators_at(me_master *M, double t, const double *x, double *z)
 
 static void dense(const me_master *M, double t, double *x)
 {
-    if (M->spec->method == ENG_RODAS3) mf_ros_dense(&M->ros, t, x);
+    if (M->dense_implicit) mf_ros_dense(&M->ros, t, x);
     else mf_dopri_dense(&M->dopri, t, x);
 }
 
@@ -235,15 +238,32 @@ static void restart(me_master *M)
 /* One accepted step from (*t, x) towards t_end; 0 on success. */
 static int step(me_master *M, double *t, double t_end, double h_initial)
 {
+    const int automatic = M->spec->method == ENG_AUTO;
+    const double t0 = *t;
     int r;
     M->message[0] = '\0';
-    if (M->spec->method == ENG_RODAS3) {
+    if (M->stiff.implicit) {
         r = mf_ros_step(&M->ros, rhs, jacobian, M, t, M->x, t_end, M->spec->tolerance, h_initial);
-        if (r == MF_ROS_OK) return 0;
+        if (r == MF_ROS_OK) {
+            M->dense_implicit = 1;
+            if (automatic && mf_stiffness_after_implicit(&M->stiff, *t - t0, M->ros.jac,
+                                                         M->ros.dx0, M->n_x, M->spec->tolerance)) {
+                mf_dopri_restart(&M->dopri);
+                M->dopri.h_guess = M->ros.h_guess;
+            }
+            return 0;
+        }
         r = r == MF_ROS_RHS_FAILED ? MF_DOPRI_RHS_FAILED : MF_DOPRI_STEP_UNDERFLOW;
     } else {
         r = mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
-        if (r == MF_DOPRI_OK) return 0;
+        if (r == MF_DOPRI_OK) {
+            M->dense_implicit = 0;
+            if (automatic && mf_stiffness_after_explicit(&M->stiff, M->dopri.h_lambda)) {
+                mf_ros_restart(&M->ros);
+                M->ros.h_guess = M->dopri.h_guess;
+            }
+            return 0;
+        }
     }
     if (r == MF_DOPRI_RHS_FAILED && M->message[0])
         return fail(M, "the solver cannot go on from t = %.10g: %.900s", *t, M->message);
@@ -669,8 +689,10 @@ static int allocate(me_master *M)
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
-    if (s->method == ENG_RODAS3 ? mf_ros_alloc(&M->ros, M->n_x) : mf_dopri_alloc(&M->dopri, M->n_x))
-        return -1;
+    /* both methods, whichever the run starts with: the automatic choice may take either */
+    if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
+    mf_stiffness_reset(&M->stiff, s->method == ENG_RODAS3);
+    M->dense_implicit = M->stiff.implicit;
     return 0;
 }
 
@@ -679,8 +701,8 @@ static void release(me_master *M)
     int i;
     if (M->fmus)
         for (i = 0; i < M->n; i++) fmu_free(M->fmus[i]);
-    if (M->spec->method == ENG_RODAS3) mf_ros_free(&M->ros);
-    else mf_dopri_free(&M->dopri);
+    mf_ros_free(&M->ros);
+    mf_dopri_free(&M->dopri);
     free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->x_before);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
@@ -697,7 +719,8 @@ static const char *spec_defect(const eng_me_spec *s)
     if (s->n_instances < 1) return "no instances";
     if (!(s->stop_time > 0.0) || !isfinite(s->stop_time)) return "stop time must be finite and > 0";
     if (!(s->tolerance > 0.0) || !(s->tolerance < 1.0)) return "tolerance must be in (0, 1)";
-    if (s->method != ENG_DOPRI5 && s->method != ENG_RODAS3) return "unknown method";
+    if (s->method != ENG_DOPRI5 && s->method != ENG_RODAS3 && s->method != ENG_AUTO)
+        return "unknown method";
     if (s->event_subsamples < 0) return "event_subsamples must be >= 0";
     for (k = 0; k < s->n_couplings; k++)
         if (s->couplings[k].source.instance < 0 || s->couplings[k].source.instance >= s->n_instances ||
@@ -751,6 +774,7 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
     }
     stats->rejected = M.dopri.n_rejected + M.ros.n_rejected;
     stats->jacobians = M.ros.n_jac;
+    stats->method_switches = M.stiff.switches;
     release(&M);
     return M.run;
 

@@ -186,7 +186,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     g->newton = (int)integer(&r, 0, 1);
     g->event_sync = (int)integer(&r, 0, 1);
     g->event_tol = number(&r);
-    cfg->me_spec.method = (int)integer(&r, ENG_DOPRI5, ENG_RODAS3);
+    cfg->me_spec.method = (int)integer(&r, ENG_DOPRI5, ENG_AUTO);
     cfg->me_spec.event_subsamples = (int)integer(&r, 0, 1000);
     cfg->me_spec.max_step = number(&r);
 

@@ -1,0 +1,68 @@
+/*
+ * stiffness.c: when to switch between DOPRI5 and RODAS3 (see stiffness.h).
+ */
+#include "stiffness.h"
+
+#include <math.h>
+
+/* Hairer's DOPRI5 threshold and count: h |lambda| beyond 3.25 on 15 accepted steps */
+static const double STIFF_H_LAMBDA = 3.25;
+static const int STIFF_VOTES = 15;
+static const int NONSTIFF_PATIENCE = 6;
+/* back to the explicit method where h rho is within half of DOPRI5's stability
+   interval on the negative real axis (about 3.3), on 6 accepted steps: the margin and
+   the count keep a problem at the border from switching at every step */
+static const double NONSTIFF_H_RHO = 1.6;
+static const int NONSTIFF_VOTES = 6;
+
+void mf_stiffness_reset(mf_stiffness *s, int start_implicit)
+{
+    s->implicit = start_implicit != 0;
+    s->votes = s->against = 0;
+    s->switches = 0;
+}
+
+/* Counts a step for the other method; `patience` steps against it in a row forget the
+   count. Returns 1 when the other method takes over. */
+static int vote(mf_stiffness *s, int for_the_other, int needed, int patience)
+{
+    if (for_the_other) {
+        s->votes++;
+        s->against = 0;
+    } else if (++s->against >= patience) {
+        s->votes = 0;
+    }
+    if (s->votes < needed) return 0;
+    s->implicit = !s->implicit;
+    s->votes = s->against = 0;
+    s->switches++;
+    return 1;
+}
+
+int mf_stiffness_after_explicit(mf_stiffness *s, double h_lambda)
+{
+    if (s->implicit) return 0;
+    /* Hairer's patience: an event or an output point shortens a step now and then, and
+       those short steps say nothing against stiffness */
+    return vote(s, h_lambda > STIFF_H_LAMBDA, STIFF_VOTES, NONSTIFF_PATIENCE);
+}
+
+int mf_stiffness_after_implicit(mf_stiffness *s, double h, const double *jac, const double *x,
+                                int n, double rtol)
+{
+    double rho = 0.0;
+    int i, j;
+    if (!s->implicit) return 0;
+    /* rho(J) <= || D^-1 J D ||_inf with D = diag(weights): the same bound in the norm
+       the error control uses, so that a fast state of small size does not hide */
+    for (i = 0; i < n; i++) {
+        double row = 0.0, wi = rtol * (1.0 + fabs(x[i]));
+        for (j = 0; j < n; j++) {
+            double wj = rtol * (1.0 + fabs(x[j]));
+            row += fabs(jac[(long)j * n + i]) * wj / wi;
+        }
+        if (row > rho) rho = row;
+    }
+    /* no patience this way: one step that needs the implicit method keeps it */
+    return vote(s, isfinite(rho) && h * rho < NONSTIFF_H_RHO, NONSTIFF_VOTES, 1);
+}
