@@ -12,7 +12,7 @@ from .foreign import check_mode
 from .masters.cosim import cosimulate
 from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
-from .plot import plot_result
+from .plot import column_units, plot_result
 from .result import Result
 from .scenes import Figure, scene
 
@@ -64,7 +64,9 @@ class SceneRun:
         step = "step" if fixed_step else "output every"
         lines.append(f"stop time {s['stop_time']:g} s, {step} {s['step']:g} s, tolerance "
                      f"{s['tolerance']:g}, {s['scheme']}, engine {s.get('engine', '?')}, "
-                     f"wall time {s['wall_s']:.3g} s")
+                     f"wall time {s['wall_s']:.3g} s"
+                     + (f" (FMU builds and loading: {s['setup_s']:.3g} s more)"
+                        if s.get("setup_s", 0) >= 0.05 else ""))
         if s.get("interrupted"):
             lines.append(f"interrupted (Ctrl-C) at t = {self.result['time'][-1]:.10g} s: the "
                          "table and figures cover the run up to there")
@@ -195,6 +197,6 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
         if sc.picture is not None:
             sc.picture(result, title, png)
         else:
-            plot_result(result, sc.plot, title, png)
+            plot_result(result, sc.plot, title, png, column_units(asm, sc.plot))
         (out / f"{name}.json").write_text(json.dumps(run.summary(), indent=2) + "\n")
     return run
