@@ -154,6 +154,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     couplings = assembly.couplings()
     names = list(assembly.components)
     fmus = {n: prepared(assembly.components[n]) for n in names}
+    _lib()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     started = wallclock.perf_counter()
     setup_s = started - setup
