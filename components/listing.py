@@ -38,7 +38,7 @@ def sheet(cls: type[Block]) -> str:
     if cls.options:
         lines.append("options (--param NAME=VALUE, fixed when the FMU is built):")
         for o in cls.options:
-            lines.append(f"  {o.name} = {o.default}  ({o.allowed()}): {o.description}")
+            lines.append(f"  {o.name} = {o.default} ({o.allowed()}): {o.description}")
     if cls.states:
         lines.append("states (start values: --param NAME=VALUE):")
         width = max(len(s.name) for s in cls.states)
