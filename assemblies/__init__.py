@@ -4,18 +4,38 @@
 (:mod:`assemblies.engine`); :mod:`assemblies.masters` has the fmpy-driven Python
 masters of the same names, the reference the engine is tested against. ``export_fmu``
 writes an assembly as one FMU that runs the engine in its doStep.
-"""
-from .assembly import Assembly, AssemblyError
-from .engine import EngineError, cosimulate, simulate_me, simulate_monolithic
-from .fmu_export import export_fmu
-from .foreign import FMU, FmuError
-from .masters.cosim import SimulationError
-from .masters.monolithic import composite
-from .result import Result, Table
-from .run import run_scene, run_scene_full
-from .scenes import SCENES, scene
 
-__all__ = ["Assembly", "AssemblyError", "EngineError", "FMU", "FmuError", "Result", "SCENES",
-           "SimulationError", "Table", "composite", "cosimulate", "export_fmu", "run_scene",
-           "run_scene_full",
-           "scene", "simulate_me", "simulate_monolithic"]
+The names below are imported on first use (PEP 562), so that ``import assemblies.cli``
+(the ``mechfmu`` command) answers ``--help`` without loading CasADi, numpy and fmpy.
+"""
+from __future__ import annotations
+
+import importlib
+
+# name -> the module that defines it
+_WHERE = {
+    "Assembly": ".assembly", "AssemblyError": ".assembly",
+    "EngineError": ".engine", "cosimulate": ".engine", "simulate_me": ".engine",
+    "simulate_monolithic": ".engine",
+    "export_fmu": ".fmu_export",
+    "FMU": ".foreign", "FmuError": ".foreign",
+    "SimulationError": ".masters.cosim",
+    "composite": ".masters.monolithic",
+    "Result": ".result", "Table": ".result",
+    "run_scene": ".run", "run_scene_full": ".run",
+    "SCENES": ".scenes", "scene": ".scenes",
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name not in _WHERE:
+        raise AttributeError(f"module 'assemblies' has no attribute '{name}'")
+    value = getattr(importlib.import_module(_WHERE[name], __name__), name)
+    globals()[name] = value  # once: later lookups do not come back here
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_WHERE))

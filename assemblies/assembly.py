@@ -13,13 +13,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from components.component import Block
+from components.errors import MechfmuError
 from components.interfaces import (FIXED, FORCE_IN, SIGNAL_IN, SIGNAL_OUT, ComponentError,
                                    Port, connectable, describe_signal)
 
 from .causality import CausalityError, Link, compatible, port_causalities, resolve
 
 
-class AssemblyError(ValueError):
+class AssemblyError(MechfmuError, ValueError):
     """Bad input to an assembly: the message names the instance, port or variable."""
 
 
@@ -39,6 +40,10 @@ class Connection:
 
 class Assembly:
     def __init__(self, name: str):
+        if not isinstance(name, str) or not name.isidentifier():
+            # it names the composite or exported FMU, its model identifier and its files
+            raise AssemblyError(f"assembly name {name!r} must be an identifier (letters, "
+                                "digits, _; not starting with a digit)")
         self.name = name
         self.components: dict[str, Block] = {}
         self.connections: list[Connection] = []
@@ -48,11 +53,15 @@ class Assembly:
 
     def add(self, instance: str, component: Block) -> Block:
         """Add `component` (one of ours, or any FMU: :class:`assemblies.foreign.FMU`)."""
-        if not instance.isidentifier():
+        if not isinstance(instance, str) or not instance.isidentifier():
             raise AssemblyError(f"assembly '{self.name}': instance name '{instance}' "
                                 "must be an identifier (letters, digits, _)")
         if instance in self.components:
             raise AssemblyError(f"assembly '{self.name}': instance '{instance}' already exists")
+        if not isinstance(component, Block):
+            raise AssemblyError(f"assembly '{self.name}': instance '{instance}' must be a "
+                                "component (e.g. SpringBlock()) or an assemblies.FMU, not "
+                                f"{type(component).__name__} {component!r}")
         component.name = instance
         self.components[instance] = component
         return component

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from components.errors import MechfmuError
 from components.interfaces import FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, SIGNAL_OUT
 
 # what may face what across one connection
@@ -32,7 +33,7 @@ _SIGNAL_PAIR = {SIGNAL_IN, SIGNAL_OUT}
 UNCONNECTED_OK = (FIXED, FORCE_IN, SIGNAL_OUT)
 
 
-class CausalityError(ValueError):
+class CausalityError(MechfmuError, ValueError):
     """No profile assignment satisfies the connections; the message names the ports."""
 
 

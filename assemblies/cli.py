@@ -1,20 +1,49 @@
-"""The `mechfmu` command: list, build and run. Bad input is one line on stderr, exit 2;
-a scene run whose figures miss their accuracy exits 1."""
+"""The `mechfmu` command: list, show, build, run, export and bench. Bad input is one line
+on stderr, exit 2; a scene run whose figures miss their accuracy exits 1.
+
+Each command imports what it needs when it runs: CasADi, numpy and fmpy take seconds to
+load, and ``--help``, ``--version`` and a mistyped option must answer at once. Keep
+module-level imports here to the standard library (a test checks it).
+"""
 from __future__ import annotations
 
 import argparse
 import sys
+import tempfile
 from pathlib import Path
 
-from components import COMPONENTS, ComponentError
+from assemblies.scene_names import SCENE_NAMES
 
 
 class UsageError(ValueError):
-    pass
+    """A command-line mistake found by a command (argparse finds the others)."""
 
 
 FIGURES_FAILED = 1  # the run went through but a figure missed its accuracy (usage errors: 2)
+USAGE = 2  # bad input, on the command line or in a value it passes on
 INTERRUPTED = 130  # Ctrl-C: the shell's code for SIGINT; what was computed is kept
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line, like every other error of the command (argparse
+    prints the whole usage first; ``--help`` still shows it)."""
+
+    def error(self, message: str):
+        self.exit(USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("mechfmu")
+    except PackageNotFoundError:  # a source checkout that was never installed
+        return "unknown (not installed)"
+
+
+def _scene_name(name: str) -> str:
+    if name not in SCENE_NAMES:
+        raise argparse.ArgumentTypeError(f"unknown scene '{name}'; scenes: {', '.join(SCENE_NAMES)}")
+    return name
 
 
 def _parse_params(pairs: list[str]) -> dict[str, str]:
@@ -27,10 +56,56 @@ def _parse_params(pairs: list[str]) -> dict[str, str]:
     return params
 
 
+def _output_folder(path: str, option: str) -> Path:
+    """`path` as a folder the run can write into, made now: a mistake here is found before
+    a long run, not after it."""
+    folder = Path(path)
+    if folder.exists() and not folder.is_dir():
+        raise UsageError(f"{option} {path} is a file; {option} takes a folder (made if missing)")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise UsageError(f"{option} {path}: cannot write there ({exc.strerror}); {option} takes "
+                         "a folder you can write in (made if missing)") from None
+    return folder
+
+
+def _output_file(path: str, option: str, suffix: str) -> Path:
+    """`path` as a file that can be written, checked now (before a build of seconds): not a
+    folder, and its folder writable (made if missing)."""
+    target = Path(path)
+    if target.is_dir():
+        raise UsageError(f"{option} {path} is a folder; {option} takes the {suffix} file to write")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=target.parent):
+            pass
+    except OSError as exc:
+        raise UsageError(f"{option} {path}: cannot write in {target.parent} ({exc.strerror}); "
+                         f"{option} takes a {suffix} path in a folder you can write in") from None
+    return target
+
+
+def _component_class(name: str):
+    from components import COMPONENTS
+    if name not in COMPONENTS:
+        raise UsageError(f"unknown component '{name}'; components: {', '.join(COMPONENTS)}")
+    return COMPONENTS[name]
+
+
 def _cmd_components(args) -> int:
+    from components import COMPONENTS
     for name, cls in COMPONENTS.items():
         profiles = ", ".join(p.name for p in cls.profiles)
         print(f"{name:<20} {cls.describe()} [profiles: {profiles}]")
+    return 0
+
+
+def _cmd_show(args) -> int:
+    from components.listing import sheet
+    print(sheet(_component_class(args.component)))
     return 0
 
 
@@ -46,16 +121,18 @@ def _cmd_scenes(args) -> int:
 
 
 def _cmd_build(args) -> int:
+    output = _output_file(args.output, "-o/--output", ".fmu")
+    cls = _component_class(args.component)
     from fmus import build_fmu
-    if args.component not in COMPONENTS:
-        raise UsageError(f"unknown component '{args.component}'; components: {', '.join(COMPONENTS)}")
-    component = COMPONENTS[args.component](profile=args.profile, **_parse_params(args.param))
-    path = build_fmu(component, args.output, fmi_version=args.fmi)
+    component = cls(profile=args.profile, **_parse_params(args.param))
+    path = build_fmu(component, output, fmi_version=args.fmi)
     print(path)
     return 0
 
 
 def _cmd_run(args) -> int:
+    out = _output_folder(args.out, "--out")
+    params = _parse_params(args.param)
     from assemblies.progress import ProgressReport
     from assemblies.run import run_scene_full
     from assemblies.scenes import scene
@@ -63,14 +140,13 @@ def _cmd_run(args) -> int:
     progress = ProgressReport(stop)
     try:
         run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
-                             tolerance=args.tolerance, params=_parse_params(args.param),
-                             out=args.out, scheme=args.scheme, progress=progress, mode=args.mode,
+                             tolerance=args.tolerance, params=params,
+                             out=out, scheme=args.scheme, progress=progress, mode=args.mode,
                              adaptive=False if args.fixed_step else args.adaptive,
                              extrapolation=args.extrapolation, engine=args.engine)
     finally:
         progress.close()
     print(run.table(verdict=False))
-    out = Path(args.out)
     print(f"wrote {out / (args.scene + '.csv')}, {out / (args.scene + '.png')}, "
           f"{out / (args.scene + '.json')}")
     print(run.verdict())  # last, so that it is what a reader or a log tail sees
@@ -80,26 +156,30 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_export(args) -> int:
+    # checked before the imports and builds (seconds): a mistake answers at once
+    if not (args.ssp or args.fmu or args.composite):
+        raise UsageError("export needs --ssp FILE.ssp, --fmu FILE.fmu and/or --composite FILE.fmu")
+    targets = [(_output_file(path, option, suffix) if path else None) for path, option, suffix in
+               ((args.ssp, "--ssp", ".ssp"), (args.fmu, "--fmu", ".fmu"),
+                (args.composite, "--composite", ".fmu"))]
+    params = _parse_params(args.param)
     from assemblies.fmu_export import export_fmu
     from assemblies.masters.monolithic import composite
     from assemblies.scenes import scene
     from assemblies.ssp import export_ssp
     from fmus import build_fmu
-    if not (args.ssp or args.fmu or args.composite):
-        raise UsageError("export needs --ssp FILE.ssp, --fmu FILE.fmu and/or --composite FILE.fmu")
     sc = scene(args.scene)
     exports = (
-        (args.ssp, lambda a, p: export_ssp(a, p, sc.stop_time)),
+        lambda a, p: export_ssp(a, p, sc.stop_time),
         # the scene's own master inside doStep (a monolithic scene's members co-simulate)
-        (args.fmu, lambda a, p: export_fmu(a, p, fmi=args.fmi, outputs=sc.record,
-                                           stop_time=sc.stop_time, step=sc.step,
-                                           tolerance=sc.tolerance,
-                                           mode=sc.mode if sc.mode == "me" else None)),
-        (args.composite, lambda a, p: build_fmu(composite(a), p, fmi_version=args.fmi)))
-    for path, export in exports:
+        lambda a, p: export_fmu(a, p, fmi=args.fmi, outputs=sc.record, stop_time=sc.stop_time,
+                                step=sc.step, tolerance=sc.tolerance,
+                                mode=sc.mode if sc.mode == "me" else None),
+        lambda a, p: build_fmu(composite(a), p, fmi_version=args.fmi))
+    for path, export in zip(targets, exports):
         if path:
             asm = sc.build()
-            for key, value in _parse_params(args.param).items():
+            for key, value in params.items():
                 asm.set(key, value)
             print(export(asm, path))
     return 0
@@ -107,53 +187,77 @@ def _cmd_export(args) -> int:
 
 def _cmd_bench(args) -> int:
     # benchmarks/ is a development folder beside the packages, not installed with them
-    root = str(Path(__file__).resolve().parents[1])
-    if root not in sys.path:
-        sys.path.insert(0, root)
-    from benchmarks.scenes import expand
+    root = Path(__file__).resolve().parents[1]
+    if not (root / "benchmarks" / "suite.py").is_file():
+        raise UsageError(f"bench needs the benchmarks/ folder of a mechfmu source checkout, and "
+                         f"{root} has none (an installed package leaves it out); run it from a "
+                         "clone of the repository")
+    if str(root) not in sys.path:
+        sys.path.insert(0, str(root))
+    out = _output_folder(args.out, "--out")
+    json_path = _output_file(args.json, "--json", ".json") if args.json else None
+    from benchmarks.scenes import GROUPS, SCENES, expand
     from benchmarks.suite import plot, run, table, write_json
+    if args.scene in SCENE_NAMES and args.scene not in SCENES:
+        raise UsageError(f"scene '{args.scene}' has no work-precision case; bench takes "
+                         f"{', '.join([*SCENES, *GROUPS])}")
     try:
         names = expand(args.scene)
     except KeyError as exc:
         raise UsageError(exc.args[0]) from None
     records, _ = run(names, quick=args.quick)
     print(table(records))
-    out = Path(args.out)
     for name in names:
         print(f"wrote {plot(records, name, out / f'bench_{name}.png')}")
-    if args.json:
-        write_json(records, Path(args.json))
-        print(f"wrote {args.json}")
+    if json_path:
+        write_json(records, json_path)
+        print(f"wrote {json_path}")
     return 0
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="mechfmu", description="Mechanical components as FMUs.")
-    sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("components", help="list the components").set_defaults(fn=_cmd_components)
-    scenes = sub.add_parser("scenes", help="list the scenes")
+    parser = _Parser(prog="mechfmu", description="Mechanical components as FMUs: build them, "
+                     "join them into assemblies, run the named scenes of the seed.")
+    parser.add_argument("--version", action="version", version=f"mechfmu {_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub.add_parser("components", help="list the components: the names build and show take") \
+        .set_defaults(fn=_cmd_components)
+    s = sub.add_parser("show", help="one component's parameters (unit, default, range, meaning), "
+                                    "options, states, ports and profiles")
+    s.add_argument("component", help="a component's name, as `mechfmu components` lists them")
+    s.set_defaults(fn=_cmd_show)
+    scenes = sub.add_parser("scenes", help="list the scenes: the names run, export and bench take")
     scenes.add_argument("--markdown", action="store_true",
                         help="README's table: scene, seed section(s), references")
     scenes.set_defaults(fn=_cmd_scenes)
     b = sub.add_parser("build", help="build one component into an FMU")
-    b.add_argument("component")
+    b.add_argument("component", help="a component's name, as `mechfmu components` lists them")
     b.add_argument("-o", "--output", required=True, help="the .fmu file to write")
     b.add_argument("--fmi", type=int, choices=(2, 3), default=3,
                    help="FMI version of the FMU (default: 3)")
-    b.add_argument("--profile", help="causality profile (default: the component's first)")
+    b.add_argument("--profile", help="causality profile (default: the component's first; "
+                                     "`mechfmu show COMPONENT` lists them)")
     b.add_argument("--param", action="append", metavar="NAME=VALUE",
-                   help="parameter, option or start value (repeatable)")
+                   help="parameter, option or start value (repeatable; `mechfmu show "
+                        "COMPONENT` lists them with their ranges)")
     b.set_defaults(fn=_cmd_build)
+    scene_list = "scenes: " + ", ".join(SCENE_NAMES)
     r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png and .json; exits 1 "
-                                         "if a figure misses its accuracy")
-    r.add_argument("scene")
-    r.add_argument("--stop-time", type=float)
-    r.add_argument("--step", type=float, help="communication step [s]")
-    r.add_argument("--tolerance", type=float, help="relative tolerance of the FMUs' solvers")
+                                   "if a figure misses its accuracy", epilog=scene_list)
+    r.add_argument("scene", type=_scene_name, help="the scene to run (listed below; "
+                                                   "`mechfmu scenes` says what each is)")
+    r.add_argument("--stop-time", type=float, metavar="SECONDS",
+                   help="end of the run [s] (default: the scene's own)")
+    r.add_argument("--step", type=float, metavar="SECONDS",
+                   help="communication step [s] with --fixed-step, else the output interval "
+                        "(default: the scene's own)")
+    r.add_argument("--tolerance", type=float,
+                   help="relative tolerance of the FMUs' solvers, in [1e-14, 1) (default: the "
+                        "scene's own)")
     r.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
-    r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"), default="jacobi",
-                   help="co-simulation sweep (mode cosim only)")
+    r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"),
+                   help="co-simulation sweep (mode cosim only; default: jacobi)")
     r.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
                    help="order of the input extrapolation held over a step: 0 constant, "
                         "1 linear, 2 quadratic (mode cosim only; default: 1 when adaptive, "
@@ -161,8 +265,8 @@ def _parser() -> argparse.ArgumentParser:
     steps = r.add_mutually_exclusive_group()
     steps.add_argument("--adaptive", type=float, nargs="?", const=1e-5, metavar="TOL",
                        help="adaptive communication step with step-doubling error control to "
-                            "TOL (absolute; the default, with TOL 1e-5); --step is the output "
-                            "interval (mode cosim only)")
+                            "TOL in (0, 1) (absolute; the default, with TOL 1e-5); --step is the "
+                            "output interval (mode cosim only)")
     steps.add_argument("--fixed-step", action="store_true",
                        help="a fixed communication step of --step seconds, no error control "
                             "(mode cosim only)")
@@ -172,10 +276,12 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--engine", choices=("c", "fmpy"), default="c",
                    help="c: the compiled engine, one C call per run (default); fmpy: the "
                         "Python reference masters driving the same FMUs through fmpy")
-    r.add_argument("--out", default="out", help="output folder (default: out)")
+    r.add_argument("--out", default="out", metavar="DIR",
+                   help="output folder, made if missing (default: out)")
     r.set_defaults(fn=_cmd_run)
-    x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU")
-    x.add_argument("scene")
+    x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU",
+                       epilog=scene_list)
+    x.add_argument("scene", type=_scene_name, help="the scene to export (listed below)")
     x.add_argument("--ssp", metavar="FILE.ssp", help="SSP 1.0: the FMUs and SystemStructure.ssd")
     x.add_argument("--fmu", metavar="FILE.fmu",
                    help="the assembly as one FMU: its member FMUs in resources/, the engine "
@@ -188,25 +294,28 @@ def _parser() -> argparse.ArgumentParser:
     x.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
     x.set_defaults(fn=_cmd_export)
-    k = sub.add_parser("bench", help="work-precision benchmark of a scene: table, log-log plot")
-    k.add_argument("scene", help="stick_slip, stick_slip_smooth, beam_N4..beam_N32, beam, "
-                                 "axle_pendulum, coin_rolling, moving_table or all")
+    k = sub.add_parser("bench", help="work-precision benchmark of a scene: table, log-log plot "
+                                     "(needs a source checkout: benchmarks/)")
+    k.add_argument("scene", help="a scene run takes that has a benchmark case (stick_slip, "
+                                 "stick_slip_smooth, axle_pendulum, coin_rolling, moving_table), "
+                                 "beam_N4, beam_N8, beam_N16, beam_N32, beam (all four) or all")
     k.add_argument("--quick", action="store_true", help="three tolerances instead of eight")
     k.add_argument("--json", metavar="FILE", help="write the records as a JSON list")
-    k.add_argument("--out", default="out", help="folder for the plot (default: out)")
+    k.add_argument("--out", default="out", metavar="DIR",
+                   help="folder for the plot (default: out)")
     k.set_defaults(fn=_cmd_bench)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    from assemblies.assembly import AssemblyError
-    from assemblies.masters.cosim import SimulationError
+    # here, not at the top: it loads the components package (CasADi), which --help must not
+    from components.errors import MechfmuError
     try:
         return args.fn(args)
-    except (UsageError, ComponentError, AssemblyError, SimulationError) as exc:
+    except (UsageError, MechfmuError) as exc:
         print(f"mechfmu: error: {exc}", file=sys.stderr)
-        return 2
+        return USAGE
     except KeyboardInterrupt:  # the fmpy masters, or Ctrl-C outside an engine call
         print("\nmechfmu: interrupted", file=sys.stderr)
         return INTERRUPTED

@@ -3,18 +3,17 @@ from __future__ import annotations
 
 import math
 
+from components.errors import check_tolerance, positive_finite
+
 from .assembly import AssemblyError
 
 
 def check_experiment(stop_time: float, step: float, tolerance: float,
                      step_name: str = "communication step") -> None:
     """Reject what no master can run, naming the setting and what is allowed."""
-    if not (math.isfinite(stop_time) and stop_time > 0):
-        raise AssemblyError(f"stop time must be a positive finite number, not {stop_time}")
-    if not (math.isfinite(step) and step > 0):
-        raise AssemblyError(f"{step_name} must be a positive finite number, not {step}")
-    if not (math.isfinite(tolerance) and 0 < tolerance < 1):
-        raise AssemblyError(f"tolerance must be in (0, 1), not {tolerance}")
+    positive_finite(stop_time, "stop time", AssemblyError)
+    positive_finite(step, step_name, AssemblyError)
+    check_tolerance(tolerance, "tolerance", AssemblyError)
 
 
 def check_cosim_settings(scheme: str, extrapolation: int, adaptive: bool, tol: float) -> None:
@@ -25,8 +24,10 @@ def check_cosim_settings(scheme: str, extrapolation: int, adaptive: bool, tol: f
     if extrapolation not in ORDERS:
         raise AssemblyError(f"extrapolation must be 0 (constant), 1 (linear) or 2 (quadratic), "
                             f"not {extrapolation!r}")
-    if adaptive and not (math.isfinite(tol) and 0 < tol < 1):
-        raise AssemblyError(f"adaptive tolerance tol must be in (0, 1), not {tol}")
+    if adaptive and not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
+        # 0 is not "off": it would ask for an error no step can meet
+        raise AssemblyError(f"adaptive tolerance tol must be in (0, 1), not {tol!r} (fixed "
+                            "communication steps: adaptive=False, --fixed-step)")
 
 
 class FixedStepFallback(UserWarning):

@@ -154,8 +154,13 @@ class FMU(Block):
 
 
 def check_mode(assembly, mode: str) -> None:
-    """Raise AssemblyError if `mode` cannot run a foreign instance of `assembly`: the
-    message names the instance, its file and interfaces, and the modes that apply."""
+    """Raise AssemblyError if `mode` cannot run `assembly`: it has no instance, or a
+    foreign instance is not made for `mode` (the message names the instance, its file and
+    interfaces, and the modes that apply). Every master calls it before any work."""
+    if not assembly.components:
+        # nothing to run is a mistake, not an empty result
+        raise AssemblyError(f"assembly '{assembly.name}' has no instances: add components "
+                            "with Assembly.add(name, component) first")
     foreign = {name: c for name, c in assembly.components.items() if isinstance(c, FMU)}
     if not foreign:
         return

@@ -1,4 +1,5 @@
-"""Plots of a scene's result: one panel per recorded quantity, events marked."""
+"""Plots of a scene's result: one panel per recorded quantity, its unit on the y axis,
+events marked."""
 from __future__ import annotations
 
 import textwrap
@@ -11,8 +12,34 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from .result import Result  # noqa: E402
 
+# the suptitle's font size, and the characters of it that fit on one line of an 8 in figure
+TITLE_SIZE, TITLE_WIDTH = 10, 95
 
-def plot_result(result: Result, columns: list[str], title: str, path: str | Path) -> None:
+
+def column_units(assembly, columns: list[str]) -> dict[str, str]:
+    """The unit each ``instance.variable`` column is declared with, where one of our
+    components declares it (a foreign FMU's columns are left out: no equations to ask)."""
+    from components.component import Component
+    from components.dae import flatten
+    units, flat = {}, {}
+    for column in columns:
+        instance, _, name = column.partition(".")
+        component = assembly.components.get(instance)
+        if not isinstance(component, Component):
+            continue
+        if instance not in flat:
+            model = flatten(component)
+            flat[instance] = {v.name: v.unit for v in
+                              (*model.states, *model.outputs, *model.inputs, *model.parameters)}
+        unit = flat[instance].get(name)
+        if unit:
+            units[column] = unit
+    return units
+
+
+def plot_result(result: Result, columns: list[str], title: str, path: str | Path,
+                units: dict[str, str] | None = None) -> None:
+    units = units or {}
     fig, axes = plt.subplots(len(columns), 1, sharex=True, figsize=(8, 2.2 * len(columns) + 0.8),
                              squeeze=False)
     for ax, column in zip(axes[:, 0], columns):
@@ -22,11 +49,12 @@ def plot_result(result: Result, columns: list[str], title: str, path: str | Path
         if events is not None and column in events:
             ax.plot(events["time"], events[column], "o", ms=3.5, color="tab:red",
                     label="events located by the FMU")
-        ax.set_ylabel(column)
+        ax.set_ylabel(f"{column} [{units[column]}]" if column in units else column)
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", fontsize=8)
     axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle(textwrap.fill(title, 90))  # a scene's description can outrun the figure
+    # a scene's description can outrun the figure: wrapped to its width
+    fig.suptitle(textwrap.fill(title, TITLE_WIDTH), fontsize=TITLE_SIZE)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -1,45 +1,70 @@
 """Progress of a long run on the terminal: a bar that redraws in place on a terminal,
 and a plain line every few seconds when the output is a log file or a pipe (a bar's
-carriage returns would fill a log with thousands of partial lines)."""
+carriage returns would fill a log with thousands of partial lines). Both say the
+simulated time, the wall time so far and an estimate of the wall time left."""
 from __future__ import annotations
 
 import sys
 import time as wallclock
-from typing import TextIO
+from typing import Callable, TextIO
+
+
+def _duration(seconds: float) -> str:
+    """``42 s``, ``3 min 05 s``, ``2 h 03 min``: short enough for a bar's line."""
+    seconds = max(0.0, seconds)
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    minutes, secs = divmod(round(seconds), 60)
+    if minutes < 60:
+        return f"{minutes} min {secs:02d} s"
+    hours, minutes = divmod(minutes, 60)
+    return f"{hours} h {minutes:02d} min"
 
 
 class ProgressReport:
     """``report(t)`` for a run from 0 to `stop_time`; call :meth:`close` when it ends.
 
     The engines call it about every 0.25 s of wall time; a bar redraws on each call,
-    a log gets a line at most every `log_interval` seconds, and a run shorter than
-    `quiet_for` seconds prints nothing at all.
+    a log gets its first line once the run has taken `quiet_for` seconds and then one
+    at most every `log_interval` seconds; a run shorter than `quiet_for` prints nothing.
+    The estimate of the time left assumes the rest of the run goes at the pace so far.
+    `clock` is the wall clock (a test passes a fake one).
     """
 
     def __init__(self, stop_time: float, stream: TextIO | None = None, log_interval: float = 5.0,
-                 quiet_for: float = 1.0, width: int = 30):
+                 quiet_for: float = 2.0, width: int = 30,
+                 clock: Callable[[], float] = wallclock.perf_counter):
         self.stop_time, self.stream = stop_time, stream or sys.stderr
         self.log_interval, self.quiet_for, self.width = log_interval, quiet_for, width
+        self.clock = clock
         self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
-        self.started = wallclock.perf_counter()
-        self.last_line = self.started
+        self.started = clock()
+        self.last_line = None  # wall time of the last log line
         self.drawn = False
 
+    def status(self, t: float, elapsed: float) -> str:
+        """``t = 8 / 100 s (8.0 %), 12 s elapsed, about 2 min 18 s left``."""
+        fraction = min(1.0, max(0.0, t / self.stop_time)) if self.stop_time > 0 else 1.0
+        left = (f"about {_duration(elapsed * (1 - fraction) / fraction)} left" if fraction > 0
+                else "time left not known yet")
+        return (f"t = {t:.6g} / {self.stop_time:g} s ({100 * fraction:.1f} %), "
+                f"{_duration(elapsed)} elapsed, {left}")
+
     def __call__(self, t: float) -> None:
-        now = wallclock.perf_counter()
+        now = self.clock()
         elapsed = now - self.started
         if elapsed < self.quiet_for:
             return
-        fraction = min(1.0, max(0.0, t / self.stop_time)) if self.stop_time > 0 else 1.0
         if self.terminal:
+            fraction = min(1.0, max(0.0, t / self.stop_time)) if self.stop_time > 0 else 1.0
             filled = round(fraction * self.width)
             bar = "#" * filled + "-" * (self.width - filled)
-            print(f"\r  [{bar}] {100 * fraction:5.1f} %  t = {t:.6g} / {self.stop_time:g} s  "
-                  f"{elapsed:6.1f} s", end="", file=self.stream, flush=True)
+            # \033[K clears what a longer line before left behind
+            print(f"\r  [{bar}] {self.status(t, elapsed)}\033[K", end="", file=self.stream,
+                  flush=True)
             self.drawn = True
-        elif now - self.last_line >= self.log_interval:
-            print(f"  t = {t:.6g} / {self.stop_time:g} s ({100 * fraction:.1f} %), "
-                  f"{elapsed:.1f} s elapsed", file=self.stream, flush=True)
+        elif self.last_line is None or now - self.last_line >= self.log_interval:
+            print(f"  {self.status(t, elapsed)}", file=self.stream, flush=True)
             self.last_line = now
 
     def close(self) -> None:

@@ -12,7 +12,7 @@ from .foreign import check_mode
 from .masters.cosim import cosimulate
 from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
-from .plot import plot_result
+from .plot import column_units, plot_result
 from .result import Result
 from .scenes import Figure, scene
 
@@ -64,7 +64,9 @@ class SceneRun:
         step = "step" if fixed_step else "output every"
         lines.append(f"stop time {s['stop_time']:g} s, {step} {s['step']:g} s, tolerance "
                      f"{s['tolerance']:g}, {s['scheme']}, engine {s.get('engine', '?')}, "
-                     f"wall time {s['wall_s']:.3g} s")
+                     f"wall time {s['wall_s']:.3g} s"
+                     + (f" (FMU builds and loading: {s['setup_s']:.3g} s more)"
+                        if s.get("setup_s", 0) >= 0.05 else ""))
         if s.get("interrupted"):
             lines.append(f"interrupted (Ctrl-C) at t = {self.result['time'][-1]:.10g} s: the "
                          "table and figures cover the run up to there")
@@ -93,7 +95,7 @@ def _masters(engine: str):
 
 def run_scene(name: str, stop_time: float | None = None, step: float | None = None,
               tolerance: float | None = None, params: dict | None = None,
-              out: str | Path | None = None, scheme: str = "jacobi", progress=None,
+              out: str | Path | None = None, scheme: str | None = None, progress=None,
               mode: str | None = None, adaptive: bool | float | None = None,
               extrapolation: int | None = None, engine: str = "c") -> Result:
     """Run a scene and return its result table (``res['block.x']``).
@@ -109,7 +111,8 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     across FMUs (`step` is then the output interval), and a scene of one FMU runs as a
     single FMU whose solver steps freely. ``adaptive=False`` asks for a fixed
     communication step `step`, ``adaptive=TOL`` for another tolerance; `extrapolation`
-    (0, 1, 2) is the input extrapolation order.
+    (0, 1, 2) is the input extrapolation order; `scheme` the sweep, ``jacobi`` (default) or
+    ``gauss-seidel``. These three belong to ``cosim``: another mode refuses them.
     With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
     The measured figures are on ``res.figures``.
     """
@@ -132,8 +135,23 @@ def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> di
             else extrapolation}
 
 
+# what the command line calls each co-simulation setting, for messages both read
+COSIM_ONLY = {"scheme": "--scheme", "adaptive": "--adaptive/--fixed-step",
+              "extrapolation": "--extrapolation"}
+
+
+def check_cosim_only(mode: str, **settings) -> None:
+    """Refuse a co-simulation setting given to another mode, which would ignore it."""
+    for name, value in settings.items():
+        if value is not None and mode != "cosim":
+            raise AssemblyError(
+                f"{name} ({COSIM_ONLY[name]}) applies to mode 'cosim' only, and this run's "
+                f"mode is '{mode}', which has no communication step (its accuracy is set by "
+                "tolerance, --tolerance); leave it out or run mode 'cosim'")
+
+
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
-                   scheme="jacobi", progress=None, mode=None, adaptive=None,
+                   scheme=None, progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c") -> SceneRun:
     sc = scene(name)
     mode = sc.mode if mode is None else mode
@@ -141,6 +159,10 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
         raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
     if engine not in ENGINES:
         raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
+    check_cosim_only(mode, scheme=scheme, adaptive=adaptive, extrapolation=extrapolation)
+    if params is not None and not isinstance(params, dict):
+        raise AssemblyError(f"params must be a dict of 'INSTANCE.NAME': value, e.g. "
+                            f"{{'block.m': 2}}, not {type(params).__name__} {params!r}")
     asm = sc.build()
     for key, value in (params or {}).items():
         asm.set(key, value)
@@ -151,14 +173,15 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
                   record=sc.record, progress=progress)
     run_cosim, run_me, run_monolithic = _masters(engine)
     single_fmu = (engine == "c" and len(asm.components) == 1 and adaptive is None
-                  and extrapolation is None)
+                  and extrapolation is None and scheme is None)
     if mode == "cosim" and single_fmu:
         # one FMU and nothing to couple: no communication step to choose, so its solver
         # steps freely and outputs come from its dense output
         result = run_me(asm, **common)
         result.settings["scheme"] = "single FMU (free steps, dense output)"
     elif mode == "cosim":
-        result = run_cosim(asm, scheme=scheme, **cosim_scheme(adaptive, extrapolation), **common)
+        result = run_cosim(asm, scheme=scheme or "jacobi", **cosim_scheme(adaptive, extrapolation),
+                           **common)
     elif mode == "me":
         result = run_me(asm, **common)
     else:
@@ -174,6 +197,6 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
         if sc.picture is not None:
             sc.picture(result, title, png)
         else:
-            plot_result(result, sc.plot, title, png)
+            plot_result(result, sc.plot, title, png, column_units(asm, sc.plot))
         (out / f"{name}.json").write_text(json.dumps(run.summary(), indent=2) + "\n")
     return run

@@ -11,9 +11,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable
 
-
-class ComponentError(ValueError):
-    """Bad input to a component: the message names the component and what is allowed."""
+from .errors import ComponentError  # noqa: F401  (defined there, under the root error)
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,7 @@ from pathlib import Path
 import fmpy
 
 from components.component import Component
+from components.errors import ComponentError, MechfmuError, check_tolerance
 from components.dae import flatten
 
 from .codegen import generate_c
@@ -36,7 +37,7 @@ FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
 CFLAGS = ["-std=c99", "-O2", "-fPIC", "-fvisibility=hidden", "-shared", "-Wall"]
 
 
-class BuildError(RuntimeError):
+class BuildError(MechfmuError, RuntimeError):
     """The C compiler rejected a model: a bug in mechfmu, never in user input."""
 
 
@@ -131,8 +132,13 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     The component's current parameter values and state starts become the FMU's
     start values. Returns the path of the .fmu (`output` if given).
     """
+    if not isinstance(component, Component):
+        raise ComponentError(f"build_fmu: component must be a component instance (e.g. "
+                             f"SpringBlock()), not {type(component).__name__} {component!r}")
     if fmi_version not in FMI_VERSIONS:
-        raise ValueError(f"fmi_version must be 2 or 3, not {fmi_version!r}")
+        raise ComponentError(f"build_fmu: fmi_version must be 2 or 3, not {fmi_version!r}")
+    # checked before anything is written: the FMU would carry it as its default tolerance
+    tolerance = check_tolerance(tolerance, "build_fmu: tolerance")
     model = flatten(component)
     identifier = type(component).__name__
     # the token is derived from the content, so compute both with a placeholder first

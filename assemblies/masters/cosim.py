@@ -42,6 +42,7 @@ from fmpy.logging import addLoggerProxy
 import numpy as np
 
 from components.dae import flatten
+from components.errors import MechfmuError
 from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
@@ -56,7 +57,7 @@ from .extrapolation import step_mean
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
 
-class SimulationError(RuntimeError):
+class SimulationError(MechfmuError, RuntimeError):
     """An FMU refused a call; the message carries what the FMU logged."""
 
 

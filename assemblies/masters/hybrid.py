@@ -42,6 +42,8 @@ from typing import Callable, Protocol
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK45, Radau
 
+from components.errors import MechfmuError
+
 METHODS = {"DOP853": DOP853, "RK45": RK45, "Radau": Radau, "BDF": BDF, "LSODA": LSODA}
 
 # Interior points scanned per step. Measured (me master, the conveyor from rest over 40
@@ -83,7 +85,7 @@ class Statistics:
     event_times: list[float] = field(default_factory=list)
 
 
-class IntegrationError(RuntimeError):
+class IntegrationError(MechfmuError, RuntimeError):
     """The ODE solver failed or the events never settle; says where and why."""
 
 

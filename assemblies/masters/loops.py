@@ -18,8 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from components.errors import MechfmuError
 
-class LoopError(RuntimeError):
+
+class LoopError(MechfmuError, RuntimeError):
     """A loop did not converge; the message names the FMUs and the couplings."""
 
 

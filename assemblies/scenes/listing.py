@@ -1,7 +1,9 @@
-"""README's table of scenes, generated from the registry so that the two cannot drift.
+"""README's generated tables: the scenes from their registry, and the components from
+theirs (:mod:`components.listing`), so that README and the code cannot drift.
 
-``mechfmu scenes --markdown`` prints the table; ``python -m assemblies.scenes.listing
-README.md`` rewrites it in place, below the marker line; a test holds README to it.
+``mechfmu scenes --markdown`` prints the scene table; ``python -m assemblies.scenes.listing
+README.md`` rewrites both tables in place, each below its marker line; a test holds README
+to them.
 """
 from __future__ import annotations
 
@@ -28,28 +30,37 @@ def markdown_table(scenes: dict[str, Scene] | None = None) -> str:
     return "\n".join([*HEADER, *rows])
 
 
-def readme_table(text: str) -> str:
+def readme_table(text: str, marker: str = MARKER) -> str:
     """The table that follows the marker line in README's text ('' if none)."""
     lines = text.splitlines()
-    if MARKER not in lines:
+    if marker not in lines:
         return ""
-    start = lines.index(MARKER) + 1
+    start = lines.index(marker) + 1
     end = start
     while end < len(lines) and lines[end].startswith("|"):
         end += 1
     return "\n".join(lines[start:end])
 
 
-def rewrite(path: str | Path) -> bool:
-    """Put the registry's table under the marker in `path`; True if the file changed."""
+def _tables() -> list[tuple[str, str]]:
+    """(marker, table) of each generated table, scenes first."""
+    from components.listing import MARKER as COMPONENT_MARKER
+    from components.listing import markdown_table as component_table
+    return [(MARKER, markdown_table()), (COMPONENT_MARKER, component_table())]
+
+
+def rewrite(path: str | Path, tables: list[tuple[str, str]] | None = None) -> bool:
+    """Put each registry's table under its marker in `path` (every marker must be there);
+    True if the file changed. `tables`: (marker, table) pairs, by default the scenes' and
+    the components'."""
     path = Path(path)
-    text = path.read_text()
-    old = readme_table(text)
-    if MARKER not in text.splitlines():
-        raise SystemExit(f"{path}: no line '{MARKER}' to put the scene table under")
-    table = markdown_table()
-    new = (text.replace(f"{MARKER}\n{old}", f"{MARKER}\n{table}", 1) if old
-           else text.replace(MARKER, f"{MARKER}\n{table}", 1))
+    text = new = path.read_text()
+    for marker, table in _tables() if tables is None else tables:
+        if marker not in new.splitlines():
+            raise SystemExit(f"{path}: no line '{marker}' to put the table under")
+        old = readme_table(new, marker)
+        new = (new.replace(f"{marker}\n{old}", f"{marker}\n{table}", 1) if old
+               else new.replace(marker, f"{marker}\n{table}", 1))
     if new != text:
         path.write_text(new)
     return new != text

@@ -35,9 +35,25 @@ def test_scene_table_rewrites_a_stale_copy(tmp_path):
     stale = tmp_path / "README.md"
     stale.write_text(f"# x\n\n{MARKER}\n| scene | seed | reference |\n| --- | --- | --- |\n"
                      "| `gone` | 1.1 | nothing |\n\nafter\n")
-    assert rewrite(stale) and not rewrite(stale)
+    only_scenes = [(MARKER, markdown_table())]
+    assert rewrite(stale, only_scenes) and not rewrite(stale, only_scenes)
     text = stale.read_text()
     assert readme_table(text) == markdown_table() and text.endswith("\n\nafter\n")
     bare = tmp_path / "BARE.md"
     bare.write_text(f"{MARKER}\nafter\n")
-    assert rewrite(bare) and bare.read_text() == f"{MARKER}\n{markdown_table()}\nafter\n"
+    assert rewrite(bare, only_scenes) and bare.read_text() == f"{MARKER}\n{markdown_table()}\nafter\n"
+
+
+def test_component_table_is_the_registrys():
+    """README lists every component `mechfmu build` takes, generated from the registry with
+    its ports and profiles: one added without regenerating the table fails here."""
+    from components import COMPONENTS
+    from components.listing import MARKER, markdown_table
+    from assemblies.scenes.listing import readme_table
+    table = readme_table(README.read_text(), MARKER)
+    assert table == markdown_table(), (
+        "README's component table is out of date: run "
+        "`python -m assemblies.scenes.listing README.md`")
+    names = [row.split("|")[1].strip().strip("`") for row in table.splitlines()[2:]]
+    assert names == list(COMPONENTS)
+    assert "| `SpringBlock` |" in table and "driven, driven_on_moving_support |" in table

@@ -18,6 +18,12 @@ def test_scene_states_its_seed_and_references(name):
     assert sc.name == name
 
 
+def test_the_command_lines_scene_names_are_the_registrys():
+    """mechfmu checks and lists scene names before it loads the scenes (and CasADi)."""
+    from assemblies.scene_names import SCENE_NAMES
+    assert list(SCENE_NAMES) == list(SCENES)
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_every_figure_states_a_finite_accuracy_and_passes(name):
     run = run_scene_full(name)

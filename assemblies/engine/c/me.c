@@ -267,9 +267,15 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
     }
     if (r == MF_DOPRI_RHS_FAILED && M->message[0])
         return fail(M, "the solver cannot go on from t = %.10g: %.900s", *t, M->message);
+    /* a non-finite derivative inside a step is mostly a trial step that overshot: an
+       explicit method on a stiff coupling; say that before blaming the user's values */
     if (r == MF_DOPRI_RHS_FAILED)
-        return fail(M, "the state derivatives are not finite at or just after t = %.10g; "
-                       "check parameters and inputs", *t);
+        return fail(M, "the state derivatives are not finite at or just after t = %.10g "
+                       "(tolerance %g): a trial step left the model's range, as an explicit "
+                       "method's does on a stiff model%s, or a parameter or input drives the "
+                       "model out of its range", *t, M->spec->tolerance,
+                    M->spec->method == ENG_RODAS3 ? ""
+                        : " (method RODAS3, implicit, takes stiff models)");
     return fail(M, "the step size fell below %g at t = %.10g (tolerance %g): the model is "
                    "too stiff or discontinuous here", 1e-14 * fmax(1.0, fabs(*t)), *t,
                 M->spec->tolerance);
