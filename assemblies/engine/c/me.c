@@ -274,7 +274,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
                        "(tolerance %g): a trial step left the model's range, as an explicit "
                        "method's does on a stiff model%s, or a parameter or input drives the "
                        "model out of its range", *t, M->spec->tolerance,
-                    M->spec->method == ENG_RODAS3 ? ""
+                    M->stiff.implicit ? ""
                         : " (method RODAS3, implicit, takes stiff models)");
     return fail(M, "the step size fell below %g at t = %.10g (tolerance %g): the model is "
                    "too stiff or discontinuous here", 1e-14 * fmax(1.0, fabs(*t)), *t,
