@@ -251,7 +251,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
         return fail(M, "the state derivatives are not finite at or just after t = %.10g; "
                        "check parameters and inputs", *t);
     return fail(M, "the step size fell below %g at t = %.10g (tolerance %g): the model is "
-                   "too stiff or discontinuous here", 1e-14 * fmax(1.0, fabs(*t)), *t,
+                   "too stiff or discontinuous here", MF_MIN_STEP(*t), *t,
                 M->spec->tolerance);
 }
 
