@@ -26,6 +26,10 @@ class Block:
     ports: tuple[Port, ...] = ()
     profiles: tuple[Profile, ...] = ()
     constraints: tuple[Constraint, ...] = ()
+    #: relations the start values must satisfy with the parameters (``g(ns)``, ``ns`` holding
+    #: both): where the equations hold only for some states (a coin lying flat has no
+    #: contact point). Checked here and, in the FMU, when initialisation ends.
+    start_constraints: tuple[Constraint, ...] = ()
 
     def __init__(self, name: str | None = None, profile: str | None = None, **values):
         self.name = name or type(self).__name__
@@ -107,6 +111,13 @@ class Block:
             if not (g > 0 if c.strict else g >= 0):
                 shown = ", ".join(f"{k} = {v:g}" for k, v in self.values.items())
                 raise ComponentError(f"{self._where()}: parameters violate {c.message} ({shown})")
+        both = SimpleNamespace(**self.values, **self.starts)
+        for c in self.start_constraints:
+            g = float(c.g(both))
+            if not (g > 0 if c.strict else g >= 0):
+                shown = ", ".join(f"{k} = {v:g}" for k, v in self.starts.items())
+                raise ComponentError(f"{self._where()}: start values violate {c.message} "
+                                     f"({shown})")
 
     def option(self, name: str) -> str:
         return self.option_values[name]
@@ -159,7 +170,8 @@ class Component(Block):
         return {**super().fmu_starts(), **({} if self.solver is None else {"solver": self.solver})}
 
     def parameter_constraints(self) -> list[Constraint]:
-        """Every check on the parameters, ranges included, in one list for the FMU's C check."""
+        """Every check on the parameters (ranges included) and on the start values, in one
+        list for the FMU's C check; each ``g`` takes a namespace of parameters and states."""
         out = []
         for p in self.parameters:
             msg = f"{type(self).__name__}: {p.name} ({p.label()}) must be {p.allowed()}"
@@ -169,6 +181,8 @@ class Component(Block):
                 out.append(Constraint(lambda ns, p=p: p.max - getattr(ns, p.name), msg))
         out += [Constraint(c.g, f"{type(self).__name__}: parameters must satisfy {c.message}", c.strict)
                 for c in self.constraints]
+        out += [Constraint(c.g, f"{type(self).__name__}: start values must satisfy {c.message}",
+                           c.strict) for c in self.start_constraints]
         return out
 
     def equations(self, e) -> None:  # pragma: no cover - every component overrides it

@@ -305,7 +305,10 @@ def flatten(component: Component) -> FlatModel:
     jump_x = explicit(ca.vertcat(*[e.jumps.get(s.name, getattr(e.x, s.name)) for s in component.states]))
     jump_q = explicit(ca.vertcat(*[e.jumps.get(m.name, q[i]) for i, m in enumerate(modes)]))
     constraints = component.parameter_constraints()
-    g = ca.vertcat(*[ca.SX(c.g(e.p)) for c in constraints])
+    # start-value constraints read states too; the FMU evaluates them at the start values
+    knowns = SimpleNamespace(**{k: v for ns in (e.p, e.x) for k, v in vars(ns).items()
+                                if not k.startswith("_")})
+    g = ca.vertcat(*[ca.SX(c.g(knowns)) for c in constraints])
     return FlatModel(
         component=component, t=e.t, x=x, q=q, u=u, p=p, xdot=xdot, y=y, z=z,
         jump_x=jump_x, jump_q=jump_q, g=g,

@@ -6,7 +6,7 @@ import math
 import casadi as ca
 
 from .component import Component
-from .interfaces import Parameter, Profile, State
+from .interfaces import Constraint, Parameter, Profile, State
 
 
 def rotation_313(phi, theta, psi):
@@ -64,6 +64,11 @@ def steady_precession(theta, psi_dot, R, g):
     return ((-b + root) / (2 * a), (-b - root) / (2 * a))
 
 
+_THETA_RANGE = ("theta_min < theta < pi - theta_min (theta is the tilt of the coin's normal "
+                "from vertical, pi/2 upright; 0 lies flat, and a lean to the other side is "
+                "phi + pi, not theta < 0)")
+
+
 class RollingCoin(Component):
     """Thin uniform disk rolling without slip on level ground (seed ch. 6, Eqs. 6.1–6.5).
 
@@ -117,6 +122,14 @@ class RollingCoin(Component):
         State("theta_dot", 0.0, "rad/s", "rate of theta"),
         State("psi_dot", -4.0, "rad/s", "rate of psi (spin; negative rolls towards +x at phi = 0)"),
     )
+    # The contact point of 6.2 is the rim's lowest point only for sin(theta) > 0: at
+    # theta = 0 the coin lies flat (no contact point, 0/0), and a negative theta would put
+    # the "contact" at the top of the rim, the coin hanging below the ground. A lean to the
+    # other side is the same theta with phi + pi. Above theta_min, since below it the
+    # coin has already fallen.
+    start_constraints = (Constraint(
+        lambda ns: ns.theta - ns.theta_min, _THETA_RANGE, strict=True), Constraint(
+        lambda ns: (math.pi - ns.theta_min) - ns.theta, _THETA_RANGE, strict=True))
     profiles = (Profile("free", "no connectors: released from its start values"),)
 
     def equations(self, e):

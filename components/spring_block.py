@@ -23,7 +23,7 @@ class SpringBlock(Component):
     States: ``x`` [m], ``v`` [m/s], position and velocity of the block relative to the
     support, as the seed defines ``x`` in 9.2 and 9.6 (absolute when it is fixed).
     Mode: ``mode`` = -1 sliding backward, 0 stuck, +1 sliding forward (for the smooth
-    laws it only reports the sign of ``v``).
+    laws, which never stick exactly: sliding while ``|v| > eps``, stuck within ``eps``).
     Connectors: ``flange_a`` the spring's free end, ``support`` the surface.
     """
 
@@ -76,8 +76,12 @@ class SpringBlock(Component):
             else:  # seed Eq. 9.7
                 mu = p.mu_k * ca.tanh(3 * s)
             e.residual(f + mu * normal)
-            e.indicator(v, "relative velocity (reports the sign change as mode)")
-            e.jump("mode", ca.sign(v))
+            # a smooth law never sticks exactly: the block counts as sliding once |v| passes
+            # eps, where the friction has reached tanh(3) = 99.5 % of its kinetic value, so
+            # that slip and re-stick are located events as with the Coulomb modes
+            e.indicator(v - p.eps, "relative velocity above eps (sliding forward)")
+            e.indicator(v + p.eps, "relative velocity below -eps (sliding backward)")
+            e.jump("mode", ca.if_else(v > p.eps, 1, ca.if_else(v < -p.eps, -1, 0)))
         e.output("a", a, "m/s2", "acceleration of the block relative to the support")
         e.output("s", support.s + x, "m", "absolute position of the block")
         e.output("f_friction", f, "N", "friction force on the block")

@@ -73,15 +73,28 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
     frequency = 2 * math.pi / period
     measured = R * math.sqrt(max(spin**2 - frequency**2 / k, 0.0))
     b = m * g * R / (I_d + m * R**2)
-    lean_max = abs(2 * k * spin**2 / (k * spin**2 - b) - 1)
+    stiffness = k * spin**2 - b
+    lean_text = ("largest |lean| / start lean vs linear: oscillation about "
+                 "k W^2 lean0 / (k W^2 - b), b = m g R / (I_d + m R^2)")
+    if not stiffness > 1e-9 * b:
+        # at (to rounding) or below the critical speed the linearised lean has no restoring
+        # stiffness: it does not oscillate but grows, so there is no frequency to measure
+        # and no bounded largest lean to predict; both figures fail, saying so
+        return [Figure("v_crit", "critical speed [m/s] from the lean frequency: undefined, "
+                       "the rolling speed R |psi'| is not above the critical speed sqrt(g R / 3)",
+                       math.nan, math.sqrt(g * R / 3)),
+                Figure("lean_max", "largest |lean| / start lean: the linear lean grows without "
+                       "bound at or below the critical speed (reference inf)",
+                       float(np.abs(lean).max()) / abs(lean[0]), math.inf),
+                *_conservation_figures(result, asm)]
+    lean_max = abs(2 * k * spin**2 / stiffness - 1)
     # the linearisation drops terms O(lean^2) of k W^2 and b; the restoring stiffness
     # k W^2 - b, a near cancellation just above the critical speed, magnifies them by
     # k W^2 / (k W^2 - b) (5.8 at 1.1 x critical): relative error ~ that x lean_max^2
-    linear = k * spin**2 / (k * spin**2 - b) * (lean_max * abs(lean[0])) ** 2
+    linear = k * spin**2 / stiffness * (lean_max * abs(lean[0])) ** 2
     return [Figure("v_crit", "critical speed [m/s] from the lean frequency vs sqrt(g R / 3)",
                    measured, math.sqrt(g * R / 3), linear, relative=True),
-            Figure("lean_max", "largest |lean| / start lean vs linear: oscillation about "
-                   "k W^2 lean0 / (k W^2 - b), b = m g R / (I_d + m R^2)",
+            Figure("lean_max", lean_text,
                    float(np.abs(lean).max()) / abs(lean[0]), lean_max, linear, relative=True),
             *_conservation_figures(result, asm)]
 

@@ -53,11 +53,13 @@ def _friction_damping_figures(result: Result, asm: Assembly) -> list[Figure]:
     p = asm.component("block").values
     x0 = asm.component("block").starts["x"]
     reference = friction_damping_turning_points(p["m"], p["k"], p["g"], p["mu_k"], x0)
-    # a turning point is an event that changes the mode: the block stops or reverses
+    # a turning point is an event where the block stops (mode to 0) or reverses (mode
+    # flips sign); leaving rest (0 to +-1) is not one: a smooth law, whose mode is 0
+    # within |v| <= eps, passes 0 at each turn and leaves it just after
     measured = [(0.0, result["block.x"][0])]
     previous = result["block.mode"][0]
     for t, x, mode in _mode_events(result, "block"):
-        if mode != previous:
+        if mode != previous and (mode == 0 or mode * previous < 0):
             measured.append((t, x))
         previous = mode
     # exact piecewise solution against located events: only the solver's error is left

@@ -15,7 +15,14 @@
 
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_STEPS_PER_DO_STEP 10000000L
+/* internal steps between two projections of how many more a doStep needs */
+#define PROGRESS_WINDOW 10000L
 #define DEFAULT_TOLERANCE 1e-8
+/* The embedded solvers' error test compares differences of order rtol |x|: below
+   about 50 ulp (1e-14) rounding alone fails it and the step size collapses. Above 1
+   a relative tolerance bounds nothing. */
+#define MIN_TOLERANCE 1e-14
+#define MAX_TOLERANCE 1.0
 /* interior points of each internal step at which the event indicators are sampled, so
    that an indicator crossing twice inside one step (a slip shorter than the step)
    is still seen */
@@ -101,7 +108,6 @@ static void emit(const mf_host *host, const char *name, mf_status status, const 
 #endif
 
 static void log_error(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
-static void log_warning(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
 static void log_info(const mf_instance *I, unsigned cat, const char *fmt, ...) PRINTF_LIKE(3, 4);
 static void log_always(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
 
@@ -120,15 +126,6 @@ static void log_error(const mf_instance *I, const char *fmt, ...)
     va_list ap;
     va_start(ap, fmt);
     emit(&I->host, I->name, MF_ERROR, "logStatusError", fmt, ap);
-    va_end(ap);
-}
-
-static void log_warning(const mf_instance *I, const char *fmt, ...)
-{
-    va_list ap;
-    if (!(I->log_mask & LOG_WARNING)) return;
-    va_start(ap, fmt);
-    emit(&I->host, I->name, MF_WARNING, "logStatusWarning", fmt, ap);
     va_end(ap);
 }
 
@@ -239,7 +236,9 @@ static void inputs_at(const mf_instance *I, double t, double *ue)
             /* a chain can visit each input at most once; longer means a cycle */
             while (d >= 0 && d < m->n_u && order <= m->n_u) {
                 term *= tau / order;
-                val += I->u[d] * term;
+                /* a zero rate adds nothing, also when a huge step has made tau^n / n!
+                   infinite (0 * inf would be NaN) */
+                if (I->u[d] != 0.0) val += I->u[d] * term;
                 d = m->input_derivative[d];
                 order++;
             }
@@ -290,12 +289,8 @@ static int update_y(mf_instance *I, const char *fn)
         log_error(I, "%s: evaluation of the outputs failed at t = %.17g", fn, I->t);
         return 0;
     }
-    if (!all_finite(I->y, I->m->n_y)) {
-        int i;
-        for (i = 0; i < I->m->n_y && isfinite(I->y[i]); i++) {}
-        log_warning(I, "%s: output '%s' is not finite at t = %.17g", fn,
-                    name_of(I, MF_COMPUTED, i), I->t);
-    }
+    /* a non-finite output is refused where it is read (mf_get_float) or produced
+       (mf_do_step), with its name */
     I->y_valid = 1;
     return 1;
 }
@@ -306,6 +301,14 @@ static int update_z(mf_instance *I, const char *fn)
     inputs_at(I, I->t, I->ue);
     if (call(I, &I->m->zc, I->t, I->x, I->q, I->ue, I->z, NULL)) {
         log_error(I, "%s: evaluation of the event indicators failed at t = %.17g", fn, I->t);
+        return 0;
+    }
+    if (!all_finite(I->z, I->m->n_z)) {
+        /* no crossing can be decided from a NaN, and a read must not report one as OK */
+        int i;
+        for (i = 0; i < I->m->n_z && isfinite(I->z[i]); i++) {}
+        log_error(I, "%s: event indicator %d is not finite (%g) at t = %.17g", fn, i + 1,
+                  I->z[i], I->t);
         return 0;
     }
     I->z_valid = 1;
@@ -611,8 +614,10 @@ mf_status mf_setup_experiment(mf_instance *I, const char *fn, int tolerance_defi
     if (!I) return MF_ERROR;
     if (!allowed(I, fn, PH_INSTANTIATED, 0)) return MF_ERROR;
     /* both checked before either is stored, so a refused call changes nothing */
-    if (tolerance_defined && !(tolerance > 0.0 && isfinite(tolerance))) {
-        log_error(I, "%s: tolerance must be a finite number > 0, got %g", fn, tolerance);
+    if (tolerance_defined && !(tolerance >= MIN_TOLERANCE && tolerance <= MAX_TOLERANCE)) {
+        log_error(I, "%s: tolerance %g is outside the allowed range [%g, %g] (a relative "
+                     "tolerance below %g asks for more digits than double precision carries)",
+                  fn, tolerance, MIN_TOLERANCE, MAX_TOLERANCE, MIN_TOLERANCE);
         return MF_ERROR;
     }
     if (!isfinite(start_time)) {
@@ -829,6 +834,12 @@ mf_status mf_get_float(mf_instance *I, const char *fn, const uint32_t vr[], size
     for (k = 0; k < n_vr; k++) {
         const mf_variable *v = lookup(I, fn, vr[k], 0);
         if (!v || !get_value(I, fn, v, &values[k])) return MF_ERROR;
+        if (!isfinite(values[k])) {
+            /* a value read with status OK is a number the importer can use */
+            log_error(I, "%s: '%s' is not finite (%g) at t = %.17g; the model cannot be "
+                         "evaluated here", fn, v->name, values[k], I->t);
+            return MF_ERROR;
+        }
     }
     return MF_OK;
 }
@@ -1009,6 +1020,13 @@ mf_status mf_get_continuous_states(mf_instance *I, const char *fn, double x[], s
     if (!size_ok(I, fn, n, I->m->n_x, "nContinuousStates") ||
         !array_ok(I, fn, x, n, "continuousStates"))
         return MF_ERROR;
+    if (!all_finite(I->x, I->m->n_x)) {
+        int i;
+        for (i = 0; i < I->m->n_x && isfinite(I->x[i]); i++) {}
+        log_error(I, "%s: state '%s' is not finite at t = %.17g", fn, name_of(I, MF_STATE, i),
+                  I->t);
+        return MF_ERROR;
+    }
     if (n) memcpy(x, I->x, n * sizeof(double));
     return MF_OK;
 }
@@ -1167,11 +1185,54 @@ static int z_inside(void *ctx, double t, double *z)
     return call(I, &I->m->zc, t, I->x_tmp, I->q, I->ue, z, NULL);
 }
 
+/* The solver gave up because the state derivatives were not finite: say whether they
+   already are at the current point (then it is the model there: parameters, inputs,
+   states) or only at every trial point of the step ahead (the step runs the model out
+   of its domain, e.g. a huge step whose trial states overflow). */
+static void explain_rhs_failure(mf_instance *I, const char *fn, double t_end)
+{
+    int i;
+    I->xdot_valid = 0;
+    if (!update_xdot(I, fn)) return;
+    for (i = 0; i < I->m->n_x; i++)
+        if (!isfinite(I->xdot[i])) {
+            log_error(I, "%s: the derivative of state '%s' is not finite (%g) at t = %.17g; the "
+                         "model cannot be evaluated at this point (check its parameters, "
+                         "inputs and states)", fn, name_of(I, MF_STATE, i), I->xdot[i], I->t);
+            return;
+        }
+    log_error(I, "%s: from t = %.17g towards %.17g every trial step down to %g s led to state "
+                 "derivatives that are not finite (the states left the model's domain or "
+                 "overflowed); shorter communication steps may help", fn, I->t, t_end,
+              MF_MIN_STEP(I->t));
+}
+
+/* After a step: the outputs and indicators the importer may read now are finite, or
+   the step fails here, naming the first that is not (no NaN is reported with OK). */
+static int outputs_finite(mf_instance *I, const char *fn)
+{
+    int i;
+    if (!update_y(I, fn)) return 0;
+    for (i = 0; i < I->m->n_y; i++)
+        if (!isfinite(I->y[i])) {
+            log_error(I, "%s: output '%s' is not finite (%g) at t = %.17g", fn,
+                      name_of(I, MF_COMPUTED, i), I->y[i], I->t);
+            return 0;
+        }
+    for (i = 0; i < I->m->n_x; i++)
+        if (!isfinite(I->x[i])) {
+            log_error(I, "%s: state '%s' is not finite at t = %.17g", fn,
+                      name_of(I, MF_STATE, i), I->t);
+            return 0;
+        }
+    return I->m->n_z == 0 || update_z(I, fn);
+}
+
 mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time,
                      int *terminate, int *early_return)
 {
     const mf_model *m;
-    double t_end;
+    double t_end, t_window;
     long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1;
     int i;
 
@@ -1199,6 +1260,12 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         return MF_OK; /* stays where the model ended it */
     }
     t_end = I->t + h;
+    if (!isfinite(t_end)) {
+        log_error(I, "%s: t + communicationStepSize = %.17g + %g is not a finite time", fn,
+                  I->t, h);
+        return MF_ERROR;
+    }
+    t_window = I->t;
     solver_work(I, &rhs0, &rej0, &jac0);
 
     if (I->inputs_changed) {
@@ -1235,21 +1302,38 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         mf_dopri_result r;
 
         if (++steps > MAX_STEPS_PER_DO_STEP) {
-            log_error(I, "%s: more than %ld internal steps between t = %.17g and %.17g; the "
-                         "model may be chattering between modes", fn, MAX_STEPS_PER_DO_STEP, t,
-                      t_end);
+            log_error(I, "%s: more than %ld internal steps between t = %.17g and %.17g "
+                         "(reached t = %.17g); the model may be chattering between modes",
+                      fn, MAX_STEPS_PER_DO_STEP, t, t_end, I->t);
             goto fail;
+        }
+        if (steps % PROGRESS_WINDOW == 0) {
+            /* A step the model cannot finish (1e300 s of a rolling coin) must not run for
+               minutes before MAX_STEPS_PER_DO_STEP says so: project the remaining steps
+               from the recent pace and refuse at once when they are too many. */
+            double pace = (I->t - t_window) / (double)PROGRESS_WINDOW;
+            double needed = pace > 0.0 ? (t_end - I->t) / pace : HUGE_VAL;
+            if ((double)steps + needed > (double)MAX_STEPS_PER_DO_STEP) {
+                log_error(I, "%s: communicationStepSize %g from t = %.17g is too long for "
+                             "this model: its last %ld internal steps advanced %g s (to t = "
+                             "%.17g), so the rest needs about %.3g steps, more than the %ld "
+                             "allowed per step; use shorter communication steps", fn, h, t,
+                          PROGRESS_WINDOW, I->t - t_window, I->t, needed,
+                          MAX_STEPS_PER_DO_STEP);
+                goto fail;
+            }
+            t_window = I->t;
         }
         r = solver_step(I, t_end, h);
         if (r != MF_DOPRI_OK) {
             if (r == MF_DOPRI_RHS_FAILED)
-                log_error(I, "%s: the model's state derivatives are not finite (or could not "
-                             "be evaluated) at or just after t = %.17g; check parameters and "
-                             "inputs", fn, I->t);
+                explain_rhs_failure(I, fn, t_end);
             else
-                log_error(I, "%s: step size fell below %g at t = %.17g (tolerance %g); the "
-                             "model is too stiff or discontinuous here", fn,
-                          1e-14 * fmax(1.0, fabs(I->t)), I->t, I->rtol);
+                log_error(I, "%s: the solver's step size fell below %g s at t = %.17g "
+                             "(relative tolerance %g): the model is too stiff or "
+                             "discontinuous here for %s%s", fn, MF_MIN_STEP(I->t), I->t,
+                          I->rtol, I->method == 1 ? "RODAS3" : "DOPRI5",
+                          I->method == 1 ? "" : "; the implicit solver (solver = 1) may manage");
             goto fail;
         }
         invalidate(I);
@@ -1275,11 +1359,13 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         if (I->host.event_dispatch && I->host.event_callback)
             I->host.event_dispatch(I->host.event_callback, I->host.environment, I->t);
         if (model_terminates(I, fn)) {
+            if (!outputs_finite(I, fn)) goto fail;
             if (terminate) *terminate = 1;
             if (last_time) *last_time = I->t;
             return MF_OK;
         }
         if (I->host.early_return_allowed && early_return && I->t < t_end) {
+            if (!outputs_finite(I, fn)) goto fail;
             /* the importer wants to see every event as a communication point */
             *early_return = 1;
             if (last_time) *last_time = I->t;
@@ -1288,6 +1374,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     }
     I->t = t_end;
     invalidate(I);
+    if (!outputs_finite(I, fn)) goto fail;
     solver_work(I, &rhs1, &rej1, &jac1);
     log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %s: %ld steps, %ld rejected, %ld derivative "
                             "evaluations, %ld Jacobians, %ld events", fn, t, t_end,
@@ -1660,7 +1747,10 @@ mf_status mf_deserialize_state(mf_instance *I, const char *fn, const unsigned ch
         return MF_ERROR;
     }
     memcpy(s->d, p, s->n * sizeof(double));
-    if (!(s->d[S_PHASE] >= 1 && s->d[S_PHASE] <= PH_TERMINATED) ||
+    /* every value of a snapshot is finite (set and step refuse anything else), so a
+       NaN or infinity here is corruption that would otherwise be read back as OK */
+    if (!all_finite(s->d, (int)s->n) ||
+        !(s->d[S_PHASE] >= 1 && s->d[S_PHASE] <= PH_TERMINATED) ||
         ((int)s->d[S_PHASE] & ((int)s->d[S_PHASE] - 1))) {
         free(s);
         log_error(I, "%s: the serialized state is corrupt", fn);

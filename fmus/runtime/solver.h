@@ -8,14 +8,21 @@
 #ifndef MECHFMU_SOLVER_H
 #define MECHFMU_SOLVER_H
 
+#include <math.h> /* MF_MIN_STEP */
+
 /* Returns 0 on success; nonzero means the model could not be evaluated here. */
 typedef int (*mf_rhs_fn)(void *ctx, double t, const double *x, double *xdot);
+
+/* The smallest step the controllers shrink to near time t. A step to the end of an
+   interval shorter than this is still taken, as one explicit Euler step (its error,
+   of order h^2, is below what double precision resolves there). */
+#define MF_MIN_STEP(t) (1e-14 * fmax(1.0, fabs(t)))
 
 typedef enum {
     MF_DOPRI_OK = 0,
     MF_DOPRI_RHS_FAILED,     /* f failed or was not finite at the current point, or at
                                 every trial point down to the smallest step */
-    MF_DOPRI_STEP_UNDERFLOW  /* the step size fell below 1e-14 * max(1, |t|) */
+    MF_DOPRI_STEP_UNDERFLOW  /* the step size fell below MF_MIN_STEP(t) */
 } mf_dopri_result;
 
 typedef struct {

@@ -115,7 +115,7 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
 {
     const int n = s->n;
     const double t0 = *t;
-    const double h_min = 1e-14 * fmax(1.0, fabs(t0));
+    const double h_min = MF_MIN_STEP(t0);
     double h = s->h_guess > 0.0 ? s->h_guess : h_initial;
     double dt;
     int rejected = 0, failed = 0, i;
@@ -129,6 +129,24 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
     if (!s->fsal_valid) {
         if (!eval(s, f, ctx, t0, x, s->f0)) return MF_ROS_RHS_FAILED;
         s->fsal_valid = 1;
+    }
+    if (t_end - t0 < h_min) {
+        /* shorter than the controller's smallest step: one explicit Euler step, as in
+           mf_dopri_step (I / (h gamma) would overflow for the shortest steps); the
+           Hermite dense output with equal end slopes is its line */
+        const double hh = t_end - t0;
+        for (i = 0; i < n; i++)
+            if (!isfinite(x[i] + hh * s->f0[i])) return MF_ROS_RHS_FAILED;
+        memcpy(s->dx0, x, (size_t)n * sizeof(double));
+        memcpy(s->df0, s->f0, (size_t)n * sizeof(double));
+        memcpy(s->df1, s->f0, (size_t)n * sizeof(double));
+        for (i = 0; i < n; i++) x[i] += hh * s->f0[i];
+        memcpy(s->dx1, x, (size_t)n * sizeof(double));
+        s->t_old = t0;
+        s->h_old = hh;
+        *t = t_end;
+        s->fsal_valid = 0; /* f at the new point was not evaluated */
+        return MF_ROS_OK;
     }
     /* J and df/dt belong to the step's start point: computed once, kept through
        rejections. Time enters through the extrapolated inputs (and any explicit t);
@@ -188,7 +206,7 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
                 err += (k4[i] / sc) * (k4[i] / sc);
             }
             err = sqrt(err / n);
-            ok = isfinite(err);
+            ok = isfinite(err) && all_finite(s->xn, (size_t)n);
         }
         /* the slope at the new point: for the dense output, and stage 1 of the next step */
         if (ok && err <= 1.0) ok = eval(s, f, ctx, t0 + h, s->xn, s->tmp);

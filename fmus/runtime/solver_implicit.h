@@ -22,7 +22,7 @@ typedef enum {
     MF_ROS_OK = 0,
     MF_ROS_RHS_FAILED,      /* f or its Jacobian failed or was not finite at the current
                                point, or at every trial point down to the smallest step */
-    MF_ROS_STEP_UNDERFLOW   /* the step size fell below 1e-14 * max(1, |t|) */
+    MF_ROS_STEP_UNDERFLOW   /* the step size fell below MF_MIN_STEP(t) */
 } mf_ros_result;
 
 typedef struct {

@@ -9,11 +9,18 @@ terminate, reset, free and instantiate again. Every answer must be a legal statu
 must survive. The walk runs in a child process, so that a crash fails this test
 instead of killing pytest.
 
+Every value read with status OK must be finite (a NaN or infinity read as OK exits the
+child with code 4, naming the call), steps include huge (1e300 s) and tiny (down to
+1e-300 s) ones, and the RollingCoin FMU is walked too. MECHFMU_FUZZ_CALLS raises the
+number of calls per walk for a long run (benchmarks: `MECHFMU_FUZZ_CALLS=50000 python -m
+pytest tests/integration/test_fuzz.py`).
+
 Not fuzzed: calls that the standard makes undefined for the importer to make (a
 freed instance or FMU state used again, arrays shorter than the count passed).
 """
 import json
 import math
+import os
 import random
 import subprocess
 import sys
@@ -23,7 +30,7 @@ from pathlib import Path
 
 import pytest
 
-CALLS = 2000
+CALLS = int(os.environ.get("MECHFMU_FUZZ_CALLS", "2000"))
 LEGAL = {0, 1, 2, 3}  # OK, Warning, Discard, Error
 CELLS = [(version, kind) for version in (2, 3) for kind in ("CoSimulation", "ModelExchange")]
 
@@ -93,7 +100,8 @@ def fuzz(path, version, kind, seed, calls):
     def do_step():
         nonlocal t
         start = rng.choice([t, t, t, t + 1.0, -t - 1.0, math.nan])
-        h = rng.choice([0.1, 1.0, 20.0, 1e-12, 0.0, -0.1, math.nan, math.inf])
+        h = rng.choice([0.1, 1.0, 20.0, 1e-12, 0.0, -0.1, math.nan, math.inf, 1e300, 1e30,
+                        1e-300, 1.1e-16, 5e-324])
         fmu.doStep(start, h)
         if math.isfinite(start) and math.isfinite(h):
             t = start + h
@@ -123,6 +131,15 @@ def fuzz(path, version, kind, seed, calls):
             blob = blob[:rng.randrange(len(blob))]
         states.append(fmu.deserializeFMUState(bytes(blob)))
 
+    def finite(name, values):
+        bad = [v for v in values if not math.isfinite(v)]
+        if bad:
+            print(f"{name} read {bad} with status OK", file=sys.stderr)
+            sys.exit(4)
+
+    def get_float():
+        finite(get_f, getattr(fmu, get_f)(_refs(rng, n_vars)))
+
     def me(name):
         def call():
             # buffers always hold the count passed; the count itself may be wrong
@@ -135,12 +152,14 @@ def fuzz(path, version, kind, seed, calls):
                           "getNominalsOfContinuousStates", "getDerivatives",
                           "getContinuousStateDerivatives"):
                 getattr(fmu, name)(buffer, n)
+                if name.startswith("get"):  # no exception: the call answered OK
+                    finite(name, buffer[:n])
             else:
                 getattr(fmu, name)()
         return call
 
     actions = {
-        "get_float": lambda: getattr(fmu, get_f)(_refs(rng, n_vars)),
+        "get_float": get_float,
         "set_float": lambda: (lambda r: getattr(fmu, set_f)(r, _values(rng, len(r))))(_refs(rng, n_vars)),
         "get_int": lambda: getattr(fmu, get_i)(_refs(rng, n_vars)),
         "set_int": lambda: (lambda r: getattr(fmu, set_i)(r, _ints(rng, len(r))))(_refs(rng, n_vars)),
@@ -189,18 +208,26 @@ def fuzz(path, version, kind, seed, calls):
     return seen
 
 
+# the coin (8 states, a terminate condition, no inputs) in one cell per FMI version
+CELLS += [(3, "CoSimulation", "RollingCoin"), (2, "ModelExchange", "RollingCoin")]
+CELLS = [cell if len(cell) == 3 else (*cell, "SpringBlock") for cell in CELLS]
+
+
 @pytest.fixture(scope="module")
-def spring_block_fmus():
-    from components import SpringBlock
+def fuzzed_fmus():
+    from components import RollingCoin, SpringBlock
     from fmus import build_fmu
-    return {v: str(build_fmu(SpringBlock(), fmi_version=v)) for v in (2, 3)}
+    return {(name, v): str(build_fmu(cls(), fmi_version=v))
+            for name, cls in (("SpringBlock", SpringBlock), ("RollingCoin", RollingCoin))
+            for v in (2, 3)}
 
 
-@pytest.mark.parametrize("version, kind", CELLS, ids=[f"fmi{v}-{k}" for v, k in CELLS])
-def test_random_call_sequences_get_legal_answers(spring_block_fmus, version, kind):
+@pytest.mark.parametrize("version, kind, model", CELLS,
+                         ids=[f"{m}-fmi{v}-{k}" for v, k, m in CELLS])
+def test_random_call_sequences_get_legal_answers(fuzzed_fmus, version, kind, model):
     child = subprocess.run(
-        [sys.executable, __file__, spring_block_fmus[version], str(version), kind, "12345",
-         str(CALLS)], capture_output=True, text=True, timeout=120,
+        [sys.executable, __file__, fuzzed_fmus[model, version], str(version), kind, "12345",
+         str(CALLS)], capture_output=True, text=True, timeout=60 + CALLS // 10,
         cwd=Path(__file__).resolve().parents[2])
     assert child.returncode == 0, (child.returncode, child.stderr[-2000:])
     seen = json.loads(child.stdout.strip().splitlines()[-1])

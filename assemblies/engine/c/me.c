@@ -277,7 +277,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
                     M->stiff.implicit ? ""
                         : " (method RODAS3, implicit, takes stiff models)");
     return fail(M, "the step size fell below %g at t = %.10g (tolerance %g): the model is "
-                   "too stiff or discontinuous here", 1e-14 * fmax(1.0, fabs(*t)), *t,
+                   "too stiff or discontinuous here", MF_MIN_STEP(*t), *t,
                 M->spec->tolerance);
 }
 

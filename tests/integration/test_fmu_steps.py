@@ -1,0 +1,109 @@
+"""Every positive communication step is legal (FMI): the shortest are taken and right, the
+longest end at once, with an error that names the step, or with the right state.
+
+Tiny steps: a block sliding from rest, x = 10 on a unit spring, k x = 10 N beyond the
+static limit mu_s m g: its acceleration is a = (-k x + mu_k m g) / m (sliding backward,
+kinetic friction forward). Over a step h the exact state is x(h) = x + a h^2 / 2,
+v(h) = a h; for h <= 1e-15 the h^2 term is below double precision of x = 10, so x is
+unchanged and v = a h to rounding.
+"""
+import math
+
+import pytest
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi3 import FMU3Slave
+
+from components import RollingCoin, SpringBlock
+from fmus import build_fmu
+
+BLOCK = dict(m=2.0, k=1.0, g=9.81, mu_k=0.3, mu_s=0.4, x=10.0)
+
+
+def _slave(component, version, messages, starts=None, tolerance=1e-8):
+    path = str(build_fmu(component, fmi_version=version))
+    md = read_model_description(path)
+    cls = FMU2Slave if version == 2 else FMU3Slave
+    fmu = cls(guid=md.guid, unzipDirectory=extract(path),
+              modelIdentifier=md.coSimulation.modelIdentifier, instanceName="steps")
+    if version == 2:
+        fmu.instantiate()  # fmpy's FMI 2 logger prints; the messages are checked in FMI 3
+    else:
+        fmu.instantiate(logMessage=lambda env, status, cat, msg: messages.append(msg.decode()))
+    vrs = {v.name: v.valueReference for v in md.modelVariables}
+    set_f = fmu.setReal if version == 2 else fmu.setFloat64
+    set_i = fmu.setInteger if version == 2 else fmu.setInt32
+    for name, value in (starts or {}).items():
+        (set_i if isinstance(value, int) else set_f)([vrs[name]], [value])
+    if version == 2:
+        fmu.setupExperiment(tolerance=tolerance, startTime=0.0)
+        fmu.enterInitializationMode()
+    else:
+        fmu.enterInitializationMode(tolerance=tolerance, startTime=0.0)
+    fmu.exitInitializationMode()
+    get_f = fmu.getReal if version == 2 else fmu.getFloat64
+    return fmu, vrs, get_f
+
+
+@pytest.mark.parametrize("version", [2, 3])
+@pytest.mark.parametrize("solver", [0, 1], ids=["DOPRI5", "RODAS3"])
+@pytest.mark.parametrize("h", [1e-300, 1.1e-16, 1e-15])
+def test_tiny_steps_succeed_with_the_analytic_state(version, solver, h):
+    p = BLOCK
+    a = (-p["k"] * p["x"] + p["mu_k"] * p["m"] * p["g"]) / p["m"]
+    fmu, vrs, get_f = _slave(SpringBlock(**p), version, [], {"solver": solver})
+    try:
+        fmu.doStep(0.0, h)
+        x, v = get_f([vrs["x"], vrs["v"]])
+        assert x == p["x"]
+        assert v == pytest.approx(a * h, rel=1e-12)
+        # and the run goes on from there with ordinary steps
+        fmu.doStep(h, 0.5)
+        x_half = get_f([vrs["x"]])[0]
+        # sliding for 0.5 s: x = 10 + a t^2 / 2 while v < 0 (k x dominates), exactly the
+        # kinetic phase of the seed's closed form, to the solver's tolerance
+        omega = math.sqrt(p["k"] / p["m"])
+        centre = p["mu_k"] * p["m"] * p["g"] / p["k"]
+        assert x_half == pytest.approx(centre + (p["x"] - centre) * math.cos(omega * (0.5 + h)),
+                                       abs=1e-6)
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_huge_step_of_a_rolling_coin_ends_at_once_with_an_error_naming_it(version):
+    messages = []
+    fmu, vrs, get_f = _slave(RollingCoin(), version, messages)
+    try:
+        with pytest.raises(FMICallException):
+            fmu.doStep(0.0, 1e300)
+        if version == 3:
+            assert "communicationStepSize 1e+300" in messages[-1], messages[-1]
+            assert "too long for this model" in messages[-1], messages[-1]
+        # what is read afterwards with status OK is finite (the state it stopped at)
+        values = get_f([vrs[n] for n in ("x", "theta", "psi_dot", "x_C", "E")])
+        assert all(math.isfinite(v) for v in values)
+    finally:
+        fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_huge_step_of_a_block_at_rest_gives_the_rest_state(version):
+    # at rest at the spring's end, stuck: the exact state after any time is the same
+    fmu, vrs, get_f = _slave(SpringBlock(), version, [])
+    try:
+        fmu.doStep(0.0, 1e300)
+        assert get_f([vrs[n] for n in ("x", "v", "f_friction", "f_spring")]) == [0.0] * 4
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()
+
+
+@pytest.mark.parametrize("tolerance", [1e-300, 0.0, 2.0])
+def test_a_tolerance_double_precision_cannot_honour_is_refused_with_the_range(tolerance):
+    messages = []
+    with pytest.raises(FMICallException):
+        _slave(SpringBlock(), 3, messages, tolerance=tolerance)
+    assert "outside the allowed range [1e-14, 1]" in messages[-1], messages[-1]
