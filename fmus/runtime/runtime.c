@@ -1126,10 +1126,12 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
    which starts from the step size the other one reached. */
 static mf_dopri_result solver_step(mf_instance *I, double t_end, double h_initial)
 {
-    const int automatic = I->method == MF_METHOD_AUTO;
+    const double t0 = I->t;
+    /* a sliver shorter than the controllers' smallest step is one Euler step, which
+       says nothing about stiffness */
+    const int automatic = I->method == MF_METHOD_AUTO && t_end - t0 >= MF_MIN_STEP(t0);
     mf_dopri_result r;
-    if (I->method == MF_METHOD_IMPLICIT || (automatic && I->stiff.implicit)) {
-        double t0 = I->t;
+    if (I->method == MF_METHOD_IMPLICIT || (I->method == MF_METHOD_AUTO && I->stiff.implicit)) {
         switch (mf_ros_step(&I->ros, rhs, jacobian, I, &I->t, I->x, t_end, I->rtol, h_initial)) {
         case MF_ROS_OK: break;
         case MF_ROS_RHS_FAILED: return MF_DOPRI_RHS_FAILED;

@@ -238,8 +238,10 @@ static void restart(me_master *M)
 /* One accepted step from (*t, x) towards t_end; 0 on success. */
 static int step(me_master *M, double *t, double t_end, double h_initial)
 {
-    const int automatic = M->spec->method == ENG_AUTO;
     const double t0 = *t;
+    /* a sliver shorter than the solvers' smallest step is one Euler step, which says
+       nothing about stiffness */
+    const int automatic = M->spec->method == ENG_AUTO && t_end - t0 >= MF_MIN_STEP(t0);
     int r;
     M->message[0] = '\0';
     if (M->stiff.implicit) {
