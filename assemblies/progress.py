@@ -13,11 +13,13 @@ class ProgressReport:
 
     The engines call it about every 0.25 s of wall time; a bar redraws on each call,
     a log gets a line at most every `log_interval` seconds, and a run shorter than
-    `quiet_for` seconds prints nothing at all.
+    `quiet_for` seconds prints nothing at all. `name` and `unit` say what is counted
+    (a parameter study counts runs: ``name="runs", unit=""``).
     """
 
     def __init__(self, stop_time: float, stream: TextIO | None = None, log_interval: float = 5.0,
-                 quiet_for: float = 1.0, width: int = 30):
+                 quiet_for: float = 1.0, width: int = 30, name: str = "t", unit: str = " s"):
+        self.name, self.unit = name, unit
         self.stop_time, self.stream = stop_time, stream or sys.stderr
         self.log_interval, self.quiet_for, self.width = log_interval, quiet_for, width
         self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
@@ -34,11 +36,12 @@ class ProgressReport:
         if self.terminal:
             filled = round(fraction * self.width)
             bar = "#" * filled + "-" * (self.width - filled)
-            print(f"\r  [{bar}] {100 * fraction:5.1f} %  t = {t:.6g} / {self.stop_time:g} s  "
+            print(f"\r  [{bar}] {100 * fraction:5.1f} %  {self.name} = {t:.6g} / "
+                  f"{self.stop_time:g}{self.unit}  "
                   f"{elapsed:6.1f} s", end="", file=self.stream, flush=True)
             self.drawn = True
         elif now - self.last_line >= self.log_interval:
-            print(f"  t = {t:.6g} / {self.stop_time:g} s ({100 * fraction:.1f} %), "
+            print(f"  {self.name} = {t:.6g} / {self.stop_time:g}{self.unit} ({100 * fraction:.1f} %), "
                   f"{elapsed:.1f} s elapsed", file=self.stream, flush=True)
             self.last_line = now
 

@@ -67,12 +67,22 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
     m, R, g = (coin.values[k] for k in ("m", "R", "g"))
     I_d, I_a = disk_inertias(m, R)
     k = I_a * (I_a + m * R**2) / (I_d * (I_d + m * R**2))
+    b = m * g * R / (I_d + m * R**2)
     spin = abs(coin.starts["psi_dot"])
     lean = result["coin.lean"]
+    if k * spin**2 <= b:
+        # at or below the critical speed the lean does not oscillate, it grows: there is
+        # no frequency to measure and no linear bound to hold it to (a sweep over the spin
+        # runs here), so both figures are unmeasured and unstated and fail as such
+        return [Figure("v_crit", "critical speed [m/s] from the lean frequency vs "
+                       "sqrt(g R / 3): none, the spin is not above it", math.nan,
+                       math.sqrt(g * R / 3)),
+                Figure("lean_max", "largest |lean| / start lean: unbounded below the "
+                       "critical speed", float(np.abs(lean).max()) / abs(lean[0]), math.inf),
+                *_conservation_figures(result, asm)]
     period = period_from_crossings(result["time"], lean - lean.mean(), -result["coin.theta_dot"])
     frequency = 2 * math.pi / period
     measured = R * math.sqrt(max(spin**2 - frequency**2 / k, 0.0))
-    b = m * g * R / (I_d + m * R**2)
     lean_max = abs(2 * k * spin**2 / (k * spin**2 - b) - 1)
     # the linearisation drops terms O(lean^2) of k W^2 and b; the restoring stiffness
     # k W^2 - b, a near cancellation just above the critical speed, magnifies them by
