@@ -129,7 +129,10 @@ def _cmd_bench(args) -> int:
 
 def _cmd_sweep(args) -> int:
     """A parameter study on Dask: the table on stdout, CSV, JSON and a plot in --out."""
-    from assemblies.sweep import sweep, write_sweep  # its errors are AssemblyErrors: exit 2
+    try:
+        from assemblies.sweep import sweep, write_sweep  # its errors are AssemblyErrors: exit 2
+    except ModuleNotFoundError as exc:
+        raise UsageError(f"sweep needs {exc.name}: pip install 'mechfmu[sweep]'") from None
     params = {}
     for pair in args.param or []:
         name, eq, spec = pair.partition("=")

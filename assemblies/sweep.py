@@ -262,8 +262,11 @@ def dask_client(workers: int | None = None, scheduler=None):
     n = (os.cpu_count() or 1) if workers is None else workers
     if not (isinstance(n, (int, np.integer)) and n >= 1):
         raise SweepError(f"workers must be a whole number >= 1, not {workers!r}")
+    # no dashboard; the scheduler's HTTP server (it always has one) on a free port, not on
+    # 8787, which another cluster on the machine may hold
     with LocalCluster(n_workers=int(n), threads_per_worker=1, processes=True,
-                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                      dashboard_address=None, silence_logs=logging.ERROR,
+                      scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster, \
             Client(cluster) as client:
         yield client
 
