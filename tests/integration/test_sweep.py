@@ -86,13 +86,14 @@ def test_the_resonance_threshold_is_4_mu_over_pi(scheduler):
     growth rate measured over U crosses zero at U* = 4 mu / pi (m = k = g = 1, mu = 0.6).
     Runs on the separately started scheduler, each worker loading each FMU once."""
     before = scheduler.run(worker_state)
-    table = sweep("resonance_below", {"drive_locked.U": "0.6:1.0:5"}, scheduler=scheduler,
+    address = scheduler.scheduler.address
+    table = sweep("resonance_below", {"drive_locked.U": "0.6:1.0:5"}, scheduler=address,
                   progress=False)
     assert list(table["status"]) == ["ok"] * 5
     [threshold] = crossings(table, "drive_locked.U", "rate_locked")
     mu = 0.6
     assert threshold == pytest.approx(4 * mu / math.pi, rel=0.01)
-    assert table.attrs["scheduler"] == scheduler.scheduler.address
+    assert table.attrs["scheduler"] == address and table.attrs["workers"] == 2
     # both FMUs of the scene (a sine drive, a spring-block) prepared once per worker:
     # their count does not grow with the runs a worker did
     distinct = {binary_key(c) for c in scene("resonance_below").build().components.values()}
@@ -116,25 +117,28 @@ def test_the_coin_stays_upright_above_the_critical_speed(scheduler):
 
 
 def test_a_failed_run_is_a_row_with_its_error_and_the_others_complete(tmp_path, capsys):
-    """On a local cluster of two workers, through the command line: m = -1 fails with the
-    component's one-line error, m = 1 and 2 slip first at t1 = mu_s m g / (k v) (seed 9.2)."""
-    code = main(["sweep", "stick_slip", "--param", "block.m=1,-1,2", "--workers", "2",
+    """On a local cluster of two workers, through the command line: m = -1 and m = nan
+    fail with the component's one-line error, m = 1 and 2 slip first at
+    t1 = mu_s m g / (k v) (seed 9.2)."""
+    code = main(["sweep", "stick_slip", "--param", "block.m=1,-1,nan,2", "--workers", "2",
                  "--out", str(tmp_path)])
     assert code == 0
     csv = tmp_path / "sweep_stick_slip.csv"
     import pandas as pd
     table = pd.read_csv(csv, keep_default_na=False)
-    assert list(table["status"]) == ["ok", "failed", "ok"]
-    error = table["error"][1]
-    assert error.startswith("SpringBlock 'block': parameter m = -1 is not allowed")
-    assert "\n" not in error
-    for m, t1 in zip((1.0, 2.0), table["t1"][[0, 2]]):
+    assert list(table["status"]) == ["ok", "failed", "failed", "ok"]
+    negative, nan = table["error"][1], table["error"][2]
+    assert negative.startswith("SpringBlock 'block': parameter m = -1 is not allowed; m (")
+    assert nan.startswith("SpringBlock 'block': parameter m = nan is not allowed; m (")
+    assert "must be a finite number" in nan and "\n" not in negative + nan
+    for m, t1 in zip((1.0, 2.0), table["t1"][[0, 3]]):
         assert float(t1) == pytest.approx(0.4 * m * 1.0 / (1.0 * 0.05), abs=1e-6)
     summary = json.loads((tmp_path / "sweep_stick_slip.json").read_text())
-    assert summary["failed"] == 1 and summary["failed_runs"] == [{"run": 1, "error": error}]
+    assert summary["failed"] == 2
+    assert summary["failed_runs"] == [{"run": 1, "error": negative}, {"run": 2, "error": nan}]
     assert summary["workers"] == 2
     assert (tmp_path / "sweep_stick_slip.png").read_bytes()[:4] == b"\x89PNG"
-    assert "1 failed" in capsys.readouterr().out
+    assert "2 failed" in capsys.readouterr().out
 
 
 def test_an_assembly_sweeps_in_process_and_reads_outputs_at_times(tmp_path):
