@@ -192,3 +192,22 @@ def test_refine_says_when_the_bracket_holds_no_change():
     with pytest.raises(SweepError, match="no change between"):
         refine("stick_slip", "block.m", 1.0, 2.0, lambda row: row["t1"] > 0, rounds=1,
                points=2, workers=0, progress=False)
+
+
+def test_the_bar_counts_runs_on_a_terminal():
+    import io
+
+    from assemblies.progress import ProgressReport
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    screen = Terminal()
+    bar = ProgressReport(3, stream=screen, quiet_for=0.0, name="runs", unit="")
+    sweep("stick_slip", {"block.m": [1.0, 1.5, 2.0]}, workers=0, progress=bar)
+    bar.close()
+    frames = screen.getvalue().split("\r")
+    assert [f.split("%")[1].split()[:4] for f in frames[1:]] == [
+        ["runs", "=", "1", "/"], ["runs", "=", "2", "/"], ["runs", "=", "3", "/"]]
+    assert "[" + "#" * 30 + "] 100.0 %  runs = 3 / 3 " in screen.getvalue()
