@@ -215,6 +215,35 @@ def _cmd_bench(args) -> int:
     return 0
 
 
+def _cmd_sweep(args) -> int:
+    """A parameter study on Dask: the table on stdout, CSV, JSON and a plot in --out."""
+    try:
+        from assemblies.sweep import sweep, write_sweep  # its errors are AssemblyErrors: exit 2
+    except ModuleNotFoundError as exc:
+        raise UsageError(f"sweep needs {exc.name}: pip install 'mechfmu[sweep]'") from None
+    params = {}
+    for pair in args.param or []:
+        name, eq, spec = pair.partition("=")
+        if not eq or not name or not spec:
+            raise UsageError(f"--param '{pair}' must be INSTANCE.NAME=START:STOP:COUNT, "
+                             "A,B,C or VALUE")
+        params[name.strip()] = spec.strip()
+    if not params:
+        raise UsageError("sweep needs at least one --param INSTANCE.NAME=START:STOP:COUNT")
+    table = sweep(args.scene, params, random=args.random, seed=args.seed,
+                  outputs=args.output or (), workers=args.workers, scheduler=args.scheduler,
+                  stop_time=args.stop_time, mode=args.mode)
+    paths = write_sweep(table, args.out, args.plot)
+    shown = ["run", *params, "status", *table.attrs["outputs"],
+             *[c for c in table.columns if f"{c}.ref" in table.columns], "error"]
+    print(table[[c for c in dict.fromkeys(shown) if c in table.columns]].to_string(index=False))
+    a = table.attrs
+    print(f"{a['runs']} runs ({a['design']}), {a['failed']} failed, on {a['workers']} "
+          f"worker(s) at {a['scheduler']}: {a['wall_s']:.3g} s, {a['runs_per_s']:.3g} runs/s")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mechfmu", description="Mechanical components as FMUs: build them, "
                      "join them into assemblies, run the named scenes of the seed.")
@@ -304,6 +333,30 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("--out", default="out", metavar="DIR",
                    help="folder for the plot (default: out)")
     k.set_defaults(fn=_cmd_bench)
+    w = sub.add_parser("sweep", help="parameter study of a scene on Dask: grid or Latin "
+                                     "hypercube, a table, CSV, JSON and a plot")
+    w.add_argument("scene")
+    w.add_argument("--param", action="append", metavar="INSTANCE.NAME=START:STOP:COUNT",
+                   help="a parameter, start value or option to vary (repeatable): "
+                        "START:STOP:COUNT, A,B,C, or one VALUE held fixed; with --random, "
+                        "START:STOP")
+    w.add_argument("--random", type=int, metavar="N",
+                   help="N runs of a Latin hypercube instead of the grid")
+    w.add_argument("--seed", type=int, help="seed of the --random design (repeatable studies)")
+    where = w.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N",
+                       help="worker processes of a local Dask cluster (default: one per core)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="a running Dask scheduler, e.g. tcp://127.0.0.1:8786")
+    w.add_argument("--output", action="append", metavar="NAME@T",
+                   help="a recorded column at time T, or NAME@end, @max, @min, @absmax "
+                        "(repeatable); the scene's figures are always recorded")
+    w.add_argument("--plot", action="append", metavar="COLUMN",
+                   help="a column to plot (repeatable; default: the outputs, else figures)")
+    w.add_argument("--stop-time", type=float)
+    w.add_argument("--mode", choices=("cosim", "me", "monolithic"))
+    w.add_argument("--out", default="out", help="output folder (default: out)")
+    w.set_defaults(fn=_cmd_sweep)
     return parser
 
 

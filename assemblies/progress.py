@@ -28,12 +28,15 @@ class ProgressReport:
     a log gets its first line once the run has taken `quiet_for` seconds and then one
     at most every `log_interval` seconds; a run shorter than `quiet_for` prints nothing.
     The estimate of the time left assumes the rest of the run goes at the pace so far.
-    `clock` is the wall clock (a test passes a fake one).
+    `clock` is the wall clock (a test passes a fake one). `name` and `unit` say what is
+    counted (a parameter study counts runs: ``name="runs", unit=""``).
     """
 
     def __init__(self, stop_time: float, stream: TextIO | None = None, log_interval: float = 5.0,
                  quiet_for: float = 2.0, width: int = 30,
-                 clock: Callable[[], float] = wallclock.perf_counter):
+                 clock: Callable[[], float] = wallclock.perf_counter, name: str = "t",
+                 unit: str = " s"):
+        self.name, self.unit = name, unit
         self.stop_time, self.stream = stop_time, stream or sys.stderr
         self.log_interval, self.quiet_for, self.width = log_interval, quiet_for, width
         self.clock = clock
@@ -47,7 +50,7 @@ class ProgressReport:
         fraction = min(1.0, max(0.0, t / self.stop_time)) if self.stop_time > 0 else 1.0
         left = (f"about {_duration(elapsed * (1 - fraction) / fraction)} left" if fraction > 0
                 else "time left not known yet")
-        return (f"t = {t:.6g} / {self.stop_time:g} s ({100 * fraction:.1f} %), "
+        return (f"{self.name} = {t:.6g} / {self.stop_time:g}{self.unit} ({100 * fraction:.1f} %), "
                 f"{_duration(elapsed)} elapsed, {left}")
 
     def __call__(self, t: float) -> None:

@@ -14,7 +14,7 @@ from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
 from .plot import column_units, plot_result
 from .result import Result
-from .scenes import Figure, scene
+from .scenes import Figure, Scene, scene
 
 
 @dataclass
@@ -153,7 +153,10 @@ def check_cosim_only(mode: str, **settings) -> None:
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c") -> SceneRun:
-    sc = scene(name)
+    """As :func:`run_scene`, with the figures; `name` may also be a :class:`Scene` that is
+    not in the registry (a parameter study runs an assembly given to it as one)."""
+    sc = name if isinstance(name, Scene) else scene(name)
+    name = sc.name
     mode = sc.mode if mode is None else mode
     if mode not in MODES:
         raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")

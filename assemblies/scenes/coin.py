@@ -67,19 +67,15 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
     m, R, g = (coin.values[k] for k in ("m", "R", "g"))
     I_d, I_a = disk_inertias(m, R)
     k = I_a * (I_a + m * R**2) / (I_d * (I_d + m * R**2))
+    b = m * g * R / (I_d + m * R**2)
     spin = abs(coin.starts["psi_dot"])
     lean = result["coin.lean"]
-    period = period_from_crossings(result["time"], lean - lean.mean(), -result["coin.theta_dot"])
-    frequency = 2 * math.pi / period
-    measured = R * math.sqrt(max(spin**2 - frequency**2 / k, 0.0))
-    b = m * g * R / (I_d + m * R**2)
     stiffness = k * spin**2 - b
-    lean_text = ("largest |lean| / start lean vs linear: oscillation about "
-                 "k W^2 lean0 / (k W^2 - b), b = m g R / (I_d + m R^2)")
     if not stiffness > 1e-9 * b:
         # at (to rounding) or below the critical speed the linearised lean has no restoring
         # stiffness: it does not oscillate but grows, so there is no frequency to measure
-        # and no bounded largest lean to predict; both figures fail, saying so
+        # and no bounded largest lean to predict (a sweep over the spin runs here); both
+        # figures fail, saying so
         return [Figure("v_crit", "critical speed [m/s] from the lean frequency: undefined, "
                        "the rolling speed R |psi'| is not above the critical speed sqrt(g R / 3)",
                        math.nan, math.sqrt(g * R / 3)),
@@ -87,6 +83,11 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
                        "bound at or below the critical speed (reference inf)",
                        float(np.abs(lean).max()) / abs(lean[0]), math.inf),
                 *_conservation_figures(result, asm)]
+    period = period_from_crossings(result["time"], lean - lean.mean(), -result["coin.theta_dot"])
+    frequency = 2 * math.pi / period
+    measured = R * math.sqrt(max(spin**2 - frequency**2 / k, 0.0))
+    lean_text = ("largest |lean| / start lean vs linear: oscillation about "
+                 "k W^2 lean0 / (k W^2 - b), b = m g R / (I_d + m R^2)")
     lean_max = abs(2 * k * spin**2 / stiffness - 1)
     # the linearisation drops terms O(lean^2) of k W^2 and b; the restoring stiffness
     # k W^2 - b, a near cancellation just above the critical speed, magnifies them by
