@@ -2,23 +2,59 @@
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import casadi as ca
 import numpy as np
 from scipy.linalg import eigh
 
-from .beam_shapes import BASES, shape_basis
+from .beam_shapes import BASES, modal_basis, shape_basis
 from .component import Component
-from .interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Option, Parameter, Port,
-                         Profile, State)
+from .interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Mode, Option, Parameter,
+                         Port, Profile, State)
+
+COORDINATES = ("assumed", "modal")
+MAX_MODES = 128
+AUTO = "auto"
+FRAME = Mode("frame", 0, "1 once the modal amplitudes refer to the frame anchored at t = 0",
+             values=(0, 1))
 
 
-def _coordinate_states(kind: str, n_modes: int) -> tuple[State, ...]:
-    names = shape_basis(kind, n_modes).names
+class _ModesOption(Option):
+    """n_modes: an integer N, or 'auto' (N = MAX_MODES, modes kept by `accuracy`)."""
+
+    def parse(self, value):
+        return AUTO if value == AUTO else super().parse(value)
+
+    def allowed(self) -> str:
+        return f"{super().allowed()} or '{AUTO}'"
+
+
+class _AccuracyOption(Option):
+    """accuracy: a number in (0, 1), the relative tip error that n_modes='auto' aims at."""
+
+    def parse(self, value):
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            return None
+        return number if 0.0 < number < 1.0 else None
+
+    def allowed(self) -> str:
+        return "a number between 0 and 1 (exclusive)"
+
+
+def _assumed_states(names) -> tuple[State, ...]:
     return (tuple(State(n, 0.0, "m", f"generalised coordinate {n} of the assumed modes")
                   for n in names)
             + tuple(State(f"{n}_dot", 0.0, "m/s", f"rate of the generalised coordinate {n}")
                     for n in names))
+
+
+def _modal_states(count: int) -> tuple[State, ...]:
+    return tuple(State(f"mode{i}_{part}", 0.0, "m",
+                       f"{what} amplitude of mode {i}'s tip deflection (frame of t = 0)")
+                 for part, what in (("c", "cosine"), ("s", "sine")) for i in range(1, count + 1))
 
 
 class AssumedModesBeam(Component):
@@ -65,8 +101,14 @@ class AssumedModesBeam(Component):
     """
 
     options = (Option("basis", "sine", BASES, "assumed modes: the seed's two powers or Eq. 7.8"),
-               Option("n_modes", 4, range(1, 65),
-                      "N of Eq. 7.8, the number of sine terms (N + 1 coordinates)"))
+               _ModesOption("n_modes", 4, range(1, MAX_MODES + 1),
+                            "N of Eq. 7.8, the number of sine terms (N + 1 coordinates)"),
+               Option("coordinates", "assumed", COORDINATES,
+                      "integrate the assumed-modes coordinates a_i, or the bare cantilever's "
+                      "modes, each propagated exactly while unforced"),
+               _AccuracyOption("accuracy", 1e-6, (),
+                               "with n_modes='auto': largest share of the static tip deflection "
+                               "left to the modes not kept"))
     parameters = (
         Parameter("EI", 1.0, "N.m2", "flexural rigidity", min=0.0, min_strict=True),
         Parameter("L", 1.0, "m", "length", min=0.0, min_strict=True),
@@ -77,7 +119,7 @@ class AssumedModesBeam(Component):
         Parameter("zeta", 0.0, "1", "modal damping ratio of the bare cantilever's modes",
                   min=0.0),
     )
-    states = _coordinate_states("sine", 4)  # the default options; instances redeclare theirs
+    states = _assumed_states(shape_basis("sine", 4).names)  # default options; instances redeclare
     ports = (Port("tip", TRANSLATIONAL, "free end of the beam, moving transversally"),)
     profiles = (Profile("free_tip", "tip force in; tip displacement, velocity and acceleration out",
                         {"tip": FORCE_IN}),)
@@ -85,6 +127,8 @@ class AssumedModesBeam(Component):
 
     def __init__(self, name: str | None = None, profile: str | None = None, **values):
         self._release_w_tip = None
+        self._assumed_starts: dict[str, float] = {}  # a_i, a_i_dot given to a modal beam
+        self._derive_modal = False  # modal amplitudes still to be computed from them
         # options first: they decide which coordinates, and so which start values, exist
         options = {o.name for o in self.options}
         ordered = {**{k: v for k, v in values.items() if k in options},
@@ -92,37 +136,100 @@ class AssumedModesBeam(Component):
         super().__init__(name, profile, **ordered)
 
     # --- coordinates that depend on the options --------------------------------
+    def _modal(self) -> bool:
+        return self.option("coordinates") == "modal"
+
     def basis(self):
-        return shape_basis(self.option("basis"), self.option("n_modes"))
+        n = self.option("n_modes")
+        return shape_basis(self.option("basis"), MAX_MODES if n == AUTO else n)
+
+    def modal(self):
+        """The bare cantilever's modes of basis() (components.beam_shapes.ModalBasis)."""
+        n = self.option("n_modes")
+        return modal_basis(self.option("basis"), MAX_MODES if n == AUTO else n)
+
+    def kept_modes(self) -> int:
+        """How many modes a modal beam integrates: all, or with n_modes='auto' the fewest
+        whose neglected static tip flexibility is at most `accuracy` of the total (a tip
+        force slower than the first neglected mode, or a release from a static shape,
+        then moves the tip by at most that share more than the full model does)."""
+        flexibility = self.modal().static_flexibility()
+        if self.option("n_modes") != AUTO:
+            return len(flexibility)
+        tail = np.cumsum(flexibility[::-1])[::-1] / flexibility.sum()  # tail[k]: modes k, k+1, ...
+        return int(np.argmax(np.append(tail, 0.0) <= self.option("accuracy")))
+
+    def _assumed_names(self) -> list[str]:
+        names = self.basis().names
+        return list(names) + [f"{n}_dot" for n in names]
+
+    def _redeclare(self) -> None:
+        previous = self.starts
+        if self._modal():
+            if not self._assumed_starts and any(previous.get(n) for n in self._assumed_names()):
+                self._assumed_starts, self._derive_modal = dict(previous), True
+            self.states, self.modes = _modal_states(self.kept_modes()), (FRAME,)
+        else:
+            previous = {**previous, **self._assumed_starts}
+            self.states, self.modes = _assumed_states(self.basis().names), ()
+        self.starts = {s.name: previous.get(s.name, s.start) for s in self.states}
 
     def settable_names(self) -> list[str]:
-        return super().settable_names() + ["w_tip0"]
+        aliases = self._assumed_names() if self._modal() else []
+        return super().settable_names() + aliases + ["w_tip0"]
+
+    def _number(self, key: str, value) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise ComponentError(f"{self._where()}: {key} = {value!r} is not a number") from None
+        if not math.isfinite(number):
+            raise ComponentError(f"{self._where()}: start value {key} = {value} must be finite")
+        return number
 
     def set(self, key: str, value) -> None:
         if key == "w_tip0":
-            try:
-                number = float(value)
-            except (TypeError, ValueError):
-                raise ComponentError(f"{self._where()}: w_tip0 = {value!r} is not a number") from None
-            if not math.isfinite(number):
-                raise ComponentError(f"{self._where()}: start value w_tip0 = {value} must be finite")
-            self._release_w_tip = number
+            self._release_w_tip = self._number(key, value)
+            return
+        if self._modal() and key in self._assumed_names():
+            # a start in the seed's coordinates: the modal amplitudes follow from all of them
+            self._assumed_starts[key] = self._number(key, value)
+            self._release_w_tip, self._derive_modal = None, True
             return
         super().set(key, value)
         if key in self.option_values:
-            previous = self.starts
-            self.states = _coordinate_states(self.option("basis"), self.option("n_modes"))
-            self.starts = {s.name: previous.get(s.name, s.start) for s in self.states}
+            self._redeclare()
         elif key in self.starts:
             self._release_w_tip = None  # an explicit start value replaces the static shape
+            self._derive_modal = False
 
     def validate(self) -> None:
         super().validate()
+        if self.option("n_modes") == AUTO and not self._modal():
+            raise ComponentError(f"{self._where()}: n_modes = 'auto' needs coordinates = 'modal' "
+                                 f"(the assumed coordinates keep every one of the N + 1)")
         if self._release_w_tip is not None:
             shape = self.static_shape(1.0)
             a = shape * (self._release_w_tip / (self.basis().tip_value @ shape))
-            for name, value in zip(self.basis().names, a):
-                self.starts[name], self.starts[f"{name}_dot"] = float(value), 0.0
+            values = dict(zip(self.basis().names, a))
+            values.update({f"{n}_dot": 0.0 for n in self.basis().names})
+            if self._modal():
+                self._assumed_starts, self._derive_modal = values, True
+            else:
+                self.starts.update({k: float(v) for k, v in values.items()})
+        if self._modal() and self._derive_modal:
+            self._modal_starts_from_assumed()
+
+    def _modal_starts_from_assumed(self) -> None:
+        """η = Φ⁻¹ a, and the sine amplitude η'/ω: the amplitudes at the start time."""
+        names = self.basis().names
+        a = np.array([self._assumed_starts.get(n, 0.0) for n in names])
+        a_dot = np.array([self._assumed_starts.get(f"{n}_dot", 0.0) for n in names])
+        kept, to_modal = self.kept_modes(), self.modal().to_modal
+        omega = self.modal_frequencies()
+        for i, (eta, eta_dot) in enumerate(zip(to_modal[:kept] @ a, to_modal[:kept] @ a_dot)):
+            self.starts[f"mode{i + 1}_c"] = float(eta)
+            self.starts[f"mode{i + 1}_s"] = float(eta_dot / omega[i])
 
     # --- the discretised model, numerically, at the current parameter values --
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
@@ -136,6 +243,11 @@ class AssumedModesBeam(Component):
         mass, stiffness = self.matrices()
         return np.sqrt(eigh(stiffness, mass, eigvals_only=True))
 
+    def modal_frequencies(self) -> np.ndarray:
+        """ω_i [rad/s] of the modes a modal beam integrates: the bare cantilever's, ascending."""
+        p = self.values
+        return np.sqrt(self.modal().stiffness[:self.kept_modes()] * p["EI"] / (p["m"] * p["L"]**3))
+
     def static_shape(self, force: float) -> np.ndarray:
         """Coordinates of the static equilibrium under a tip force `force` [N]: K a = φ(L) F."""
         return np.linalg.solve(self.matrices()[1], self.basis().tip_value * force)
@@ -146,6 +258,110 @@ class AssumedModesBeam(Component):
 
     # --- equations --------------------------------------------------------------
     def equations(self, e):
+        if self._modal():
+            self._modal_equations(e)
+        else:
+            self._assumed_equations(e)
+
+    def _modal_terms(self, t, c, s, tip_f, p, tip_motion=None):
+        """The modal beam's right-hand side and outputs, in SX (flatten) or MX (the C code).
+
+        η_i'' + ω_i² η_i = F_i, F_i = gain_i (f - k_tip (w + beta w')) / m - d_i η_i',
+        d_i = alpha + beta ω_i² + 2 zeta ω_i (Rayleigh and modal damping are diagonal in the
+        bare modes; the tip spring and its share of beta K are the rank-one tip force).
+        With η = c cos ω t + s sin ω t and η' = ω (s cos ω t - c sin ω t) (variation of
+        constants): c' = -sin(ω t) F / ω, s' = cos(ω t) F / ω. An undamped beam with a free
+        tip has F = 0: its states are constant and the solver's step is set by the outputs
+        asked for, not by the highest mode. Every expression is elementwise over the modes.
+        `tip_motion` = (w, w') held as symbols instead of Σ η, Σ η': the Jacobians then
+        split into a diagonal part and a rank-one part (see vectorised_functions).
+        """
+        kept, modal = self.kept_modes(), self.modal()
+        omega = ca.sqrt(p.EI / (p.m * p.L**3)) * ca.DM(np.sqrt(modal.stiffness[:kept]))
+        gain = ca.DM(modal.gain[:kept])
+        cos, sin = ca.cos(omega * t), ca.sin(omega * t)
+        eta, eta_dot = c * cos + s * sin, omega * (s * cos - c * sin)
+        w, w_dot = tip_motion if tip_motion is not None else (ca.sum1(eta), ca.sum1(eta_dot))
+        decay = p.alpha + p.beta * omega**2 + 2 * p.zeta * omega
+        force = gain * (tip_f - p.k_tip * (w + p.beta * w_dot)) / p.m - decay * eta_dot
+        return SimpleNamespace(
+            omega=omega, cos=cos, sin=sin, c_dot=-sin * force / omega, s_dot=cos * force / omega,
+            outputs={"tip.s": w, "tip.v": w_dot, "tip.a": ca.sum1(force - omega**2 * eta),
+                     "w_tip": w, "slope_tip": ca.dot(ca.DM(modal.tip_slope[:kept]), eta) / p.L,
+                     "E": p.m * ca.sum1((eta_dot**2 + omega**2 * eta**2) / gain) / 2
+                     + p.k_tip * w**2 / 2})
+
+    def _modal_equations(self, e):
+        p, tip, kept = e.p, e.port("tip"), self.kept_modes()
+        c = ca.vertcat(*[getattr(e.x, f"mode{i}_c") for i in range(1, kept + 1)])
+        s = ca.vertcat(*[getattr(e.x, f"mode{i}_s") for i in range(1, kept + 1)])
+        terms = self._modal_terms(e.t, c, s, tip.f, p)
+        for i in range(kept):
+            e.residual(getattr(e.der, f"mode{i + 1}_c") - terms.c_dot[i])
+            e.residual(getattr(e.der, f"mode{i + 1}_s") - terms.s_dot[i])
+        e.jump("frame", 1)
+        c_new, s_new = self._to_frame_of_zero(e.q.frame, c, s, terms)
+        for i in range(kept):
+            e.jump(f"mode{i + 1}_c", c_new[i])
+            e.jump(f"mode{i + 1}_s", s_new[i])
+        out = terms.outputs
+        e.residual(tip.s - out["tip.s"])
+        e.residual(tip.v - out["tip.v"])
+        e.residual(tip.a - out["tip.a"])
+        e.output("w_tip", out["w_tip"], "m", "tip deflection w(L)")
+        e.output("slope_tip", out["slope_tip"], "1", "tip slope w_x(L)")
+        e.output("E", out["E"], "J", "kinetic energy + strain energy of beam and tip spring")
+
+    @staticmethod
+    def _to_frame_of_zero(frame, c, s, terms):
+        """The start values are the amplitudes at the start time t0 (η(t0) = c,
+        η'(t0) = ω s); the first event iteration turns them, once, into those of the frame
+        anchored at t = 0, so that the run is right whatever t0 is."""
+        start = frame == 0
+        return (ca.if_else(start, c * terms.cos - s * terms.sin, c),
+                ca.if_else(start, c * terms.sin + s * terms.cos, s))
+
+    def vectorised_functions(self, model) -> dict:
+        """ode, out, jac and dd of the modal beam as MX: loops over the modes in C, so that
+        the code, and gcc's time, grow like N (N = 128 builds in seconds).
+
+        The Jacobians by the chain rule through the tip motion W = (w, w'): with W held,
+        every result is elementwise in the modes (a diagonal Jacobian, one sweep of AD);
+        W's own dependence adds d/dW ⊗ dW/dx, a product of a few vectors.
+        """
+        if not self._modal():
+            return {}
+        if model.z.numel():
+            raise AssertionError("the modal beam has no event indicators")
+        t, q = ca.MX.sym("t"), ca.MX.sym("q", model.q.numel())
+        x, u, p = (ca.MX.sym(n, v.numel()) for n, v in (("x", model.x), ("u", model.u),
+                                                        ("p", model.p)))
+        params = SimpleNamespace(**{par.name: p[i] for i, par in enumerate(self.parameters)})
+        kept, held = self.kept_modes(), ca.MX.sym("W", 2)
+        c, s = x[:kept], x[kept:]
+        terms = self._modal_terms(t, c, s, u[0], params, tip_motion=(held[0], held[1]))
+        xdot = ca.vertcat(terms.c_dot, terms.s_dot)
+        y = ca.vertcat(*[terms.outputs[v.name] for v in model.outputs])
+        motion = ca.vertcat(ca.sum1(c * terms.cos + s * terms.sin),
+                            ca.sum1(terms.omega * (s * terms.cos - c * terms.sin)))
+
+        def d_dx(expr):
+            return ca.jacobian(expr, x) + ca.mtimes(ca.jacobian(expr, held), ca.jacobian(motion, x))
+
+        unknowns = ca.vertcat(xdot, y)
+        results = [xdot, y, ca.densify(d_dx(xdot)),
+                   ca.densify(ca.horzcat(d_dx(unknowns), ca.jacobian(unknowns, u)))]
+        results = ca.substitute(results, [held], [motion])
+        args, names = [t, x, q, u, p], ["t", "x", "q", "u", "p"]
+        functions = {key: ca.Function(f"mf_{key}", args, [result], names, [label])
+                     for key, result, label in zip(("ode", "out", "jac", "dd"), results,
+                                                   ("xdot", "y", "jac", "dd"))}
+        c_new, s_new = self._to_frame_of_zero(q[0], c, s, terms)
+        functions["jump"] = ca.Function("mf_jump", args, [ca.vertcat(c_new, s_new), ca.MX(1.0)],
+                                        names, ["x_new", "q_new"])
+        return functions
+
+    def _assumed_equations(self, e):
         p, b, tip = e.p, self.basis(), e.port("tip")
         a = ca.vertcat(*[getattr(e.x, n) for n in b.names])
         a_dot = ca.vertcat(*[getattr(e.x, f"{n}_dot") for n in b.names])

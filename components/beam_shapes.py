@@ -112,3 +112,52 @@ def _modal_damping(mass: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
     projected = mass @ modes
     damping = (projected * np.sqrt(eigenvalues)) @ projected.T
     return (damping + damping.T) / 2
+
+
+@dataclass(frozen=True)
+class ModalBasis:
+    """The bare cantilever's Ritz modes of a ShapeBasis, each scaled to unit tip deflection.
+
+    With a = Φ η and Φ's columns scaled so that φ(1)·Φ_i = 1, the tip deflection is
+    Σ η_i and the beam's equations decouple into one oscillator per mode:
+
+        m η_i'' / gain_i + EI/L³ stiffness_i η_i / gain_i + ... = f_tip,
+
+    i.e. η_i'' + ω_i² η_i = gain_i f_tip / m with ω_i² = stiffness_i EI / (m L³).
+    ``gain_i`` = ψ_i² where ψ_i is the tip value of the M̂-normalised mode: the inverse
+    modal mass per unit total mass. The static tip flexibility of mode i is
+    gain_i / stiffness_i (in L³ / EI); they add up to the discretised model's.
+    """
+    stiffness: np.ndarray   # λ̂_i, ascending: ω_i = sqrt(λ̂_i EI / (m L³))
+    gain: np.ndarray        # ψ_i²
+    tip_slope: np.ndarray   # φ'(1)·Φ_i: w_x(L) = tip_slope · η / L
+    to_modal: np.ndarray    # Φ⁻¹: η = to_modal @ a
+
+    @property
+    def size(self) -> int:
+        return len(self.stiffness)
+
+    def static_flexibility(self) -> np.ndarray:
+        """Each mode's share of the static tip deflection under a tip force, in L³/EI."""
+        return self.gain / self.stiffness
+
+
+@functools.lru_cache(maxsize=None)
+def modal_basis(kind: str, n_modes: int) -> ModalBasis:
+    """Modes of K̂ u = λ̂ M̂ u for shape_basis(kind, n_modes), in their tip normalisation.
+
+    The bare cantilever's (no tip spring): M̂ and K̂ do not depend on any parameter, so the
+    modes are numbers computed once, and EI, L, m only scale the frequencies. Every mode of
+    a cantilever moves its tip, so the tip normalisation never divides by zero (checked).
+    """
+    basis = shape_basis(kind, n_modes)
+    eigenvalues, modes = eigh(basis.stiffness, basis.mass)  # modes.T @ M̂ @ modes = I
+    tip = basis.tip_value @ modes
+    if np.any(np.abs(tip) < 1e-9 * np.abs(tip).max()):
+        raise ValueError(f"a Ritz mode of the {kind} basis (N = {n_modes}) leaves the tip at rest")
+    shapes = modes / tip
+    arrays = (eigenvalues, tip**2, basis.tip_slope @ shapes,
+              (modes.T @ basis.mass) * tip[:, None])
+    for array in arrays:
+        array.setflags(write=False)
+    return ModalBasis(*arrays)

@@ -187,3 +187,15 @@ class Component(Block):
 
     def equations(self, e) -> None:  # pragma: no cover - every component overrides it
         raise NotImplementedError
+
+    def vectorised_functions(self, model) -> dict:
+        """Model functions this component writes itself for the C code, by key of
+        ``FlatModel.functions()`` (plus ``dd``, see fmus.codegen.directional_jacobian).
+
+        CasADi's SX, which flatten() works in, unrolls every scalar operation into a
+        line of C; an MX function of whole vectors compiles to loops over constant data.
+        A component with many similar states (a beam's modes) returns MX functions with
+        the same arguments (t, x, q, u, p) and results as the flattened ones, which stay
+        the reference they are tested against. None here: everything from flatten().
+        """
+        return {}

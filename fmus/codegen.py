@@ -117,11 +117,12 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
     functions = model.functions()
     functions["out"] = ca.Function("mf_out", model.args, [ca.densify(computed_outputs(model))],
                                    ["t", "x", "q", "u", "p"], ["y"])
+    functions["dd"] = directional_jacobian(model)
+    functions.update(model.component.vectorised_functions(model))  # loops instead of unrolled SX
     gen = ca.CodeGenerator("model.c", {"with_header": False, "with_export": False,
                                         "casadi_real": "double", "casadi_int": "long long"})
-    for key in FUNCTION_ORDER:
+    for key in FUNCTION_ORDER + ("dd",):
         gen.add(functions[key])
-    gen.add(directional_jacobian(model))
     table = variable_table(model)
     n_y = len(model.outputs) + len(model.indicators)
     lines = [gen.dump(), '#include "model.h"', ""]
