@@ -73,19 +73,9 @@ def _output_folder(path: str, option: str) -> Path:
 
 
 def _output_file(path: str, option: str, suffix: str) -> Path:
-    """`path` as a file that can be written, checked now (before a build of seconds): not a
-    folder, and its folder writable (made if missing)."""
-    target = Path(path)
-    if target.is_dir():
-        raise UsageError(f"{option} {path} is a folder; {option} takes the {suffix} file to write")
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=target.parent):
-            pass
-    except OSError as exc:
-        raise UsageError(f"{option} {path}: cannot write in {target.parent} ({exc.strerror}); "
-                         f"{option} takes a {suffix} path in a folder you can write in") from None
-    return target
+    """`path` as a file that can be written, checked now (before a build of seconds)."""
+    from components.errors import writable_file
+    return writable_file(path, option, suffix, UsageError)
 
 
 def _component_class(name: str):
@@ -120,9 +110,16 @@ def _cmd_scenes(args) -> int:
     return 0
 
 
+def _say_when_building() -> None:
+    """Print a line on stderr whenever an FMU is compiled: a build takes seconds."""
+    import fmus.build
+    fmus.build.announce = lambda line: print(line, file=sys.stderr, flush=True)
+
+
 def _cmd_build(args) -> int:
     output = _output_file(args.output, "-o/--output", ".fmu")
     cls = _component_class(args.component)
+    _say_when_building()
     from fmus import build_fmu
     component = cls(profile=args.profile, **_parse_params(args.param))
     path = build_fmu(component, output, fmi_version=args.fmi)
@@ -133,6 +130,7 @@ def _cmd_build(args) -> int:
 def _cmd_run(args) -> int:
     out = _output_folder(args.out, "--out")
     params = _parse_params(args.param)
+    _say_when_building()
     from assemblies.progress import ProgressReport
     from assemblies.run import run_scene_full
     from assemblies.scenes import scene
@@ -163,6 +161,7 @@ def _cmd_export(args) -> int:
                ((args.ssp, "--ssp", ".ssp"), (args.fmu, "--fmu", ".fmu"),
                 (args.composite, "--composite", ".fmu"))]
     params = _parse_params(args.param)
+    _say_when_building()
     from assemblies.fmu_export import export_fmu
     from assemblies.masters.monolithic import composite
     from assemblies.scenes import scene
@@ -186,14 +185,8 @@ def _cmd_export(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    # benchmarks/ is a development folder beside the packages, not installed with them
-    root = Path(__file__).resolve().parents[1]
-    if not (root / "benchmarks" / "suite.py").is_file():
-        raise UsageError(f"bench needs the benchmarks/ folder of a mechfmu source checkout, and "
-                         f"{root} has none (an installed package leaves it out); run it from a "
-                         "clone of the repository")
-    if str(root) not in sys.path:
-        sys.path.insert(0, str(root))
+    # benchmarks is installed beside the packages (pyproject), so this works off a checkout
+    # and from an installed mechfmu alike
     out = _output_folder(args.out, "--out")
     json_path = _output_file(args.json, "--json", ".json") if args.json else None
     from benchmarks.scenes import GROUPS, SCENES, expand
@@ -335,7 +328,7 @@ def _parser() -> argparse.ArgumentParser:
     k.set_defaults(fn=_cmd_bench)
     w = sub.add_parser("sweep", help="parameter study of a scene on Dask: grid or Latin "
                                      "hypercube, a table, CSV, JSON and a plot")
-    w.add_argument("scene")
+    w.add_argument("scene", type=_scene_name, help="the scene to vary (mechfmu scenes lists them)")
     w.add_argument("--param", action="append", metavar="INSTANCE.NAME=START:STOP:COUNT",
                    help="a parameter, start value or option to vary (repeatable): "
                         "START:STOP:COUNT, A,B,C, or one VALUE held fixed; with --random, "
@@ -353,8 +346,10 @@ def _parser() -> argparse.ArgumentParser:
                         "(repeatable); the scene's figures are always recorded")
     w.add_argument("--plot", action="append", metavar="COLUMN",
                    help="a column to plot (repeatable; default: the outputs, else figures)")
-    w.add_argument("--stop-time", type=float)
-    w.add_argument("--mode", choices=("cosim", "me", "monolithic"))
+    w.add_argument("--stop-time", type=float, help="simulated time of each run [s] "
+                                                   "(default: the scene's)")
+    w.add_argument("--mode", choices=("cosim", "me", "monolithic"),
+                   help="master of each run (default: the scene's)")
     w.add_argument("--out", default="out", help="output folder (default: out)")
     w.set_defaults(fn=_cmd_sweep)
     return parser

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 import numbers
+import tempfile
+from pathlib import Path
 
 
 class MechfmuError(Exception):
@@ -52,3 +54,19 @@ def check_tolerance(value, what: str = "tolerance",
                     f"tolerance under {MIN_TOLERANCE:g} is below what double precision "
                     "round-off lets a solver meet)")
     return tol
+
+
+def writable_file(path, what: str, kind: str, error: type[MechfmuError] = ComponentError) -> Path:
+    """`path` as a file that can be written, checked before seconds of work: not a folder,
+    and in a folder one can write in (made if missing); else `error` saying which."""
+    target = Path(path)
+    if target.is_dir():
+        raise error(f"{what} {path} is a folder; {what} takes the {kind} file to write")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=target.parent):
+            pass
+    except OSError as exc:
+        raise error(f"{what} {path}: cannot write in {target.parent} ({exc.strerror}); "
+                    f"{what} takes a {kind} path in a folder you can write in") from None
+    return target

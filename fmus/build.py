@@ -19,12 +19,13 @@ import subprocess
 import sys
 import tempfile
 import zipfile
+from collections.abc import Callable
 from pathlib import Path
 
 import fmpy
 
 from components.component import Component
-from components.errors import ComponentError, MechfmuError, check_tolerance
+from components.errors import ComponentError, MechfmuError, check_tolerance, writable_file
 from components.dae import flatten
 
 from .codegen import generate_c
@@ -125,6 +126,11 @@ def cached_library(folder: str, stem: str, sources: list[Path], include_dirs: li
     return target
 
 
+#: called with a line when an FMU is compiled (seconds, or minutes for a big beam): the
+#: command line prints it, so that a run is never silent while it builds; None: quiet
+announce: Callable[[str], None] | None = None
+
+
 def build_fmu(component: Component, output: str | os.PathLike | None = None,
               fmi_version: int = 3, tolerance: float = 1e-8) -> Path:
     """Build (or fetch from the cache) the FMI 2.0 or 3.0 FMU of `component` under its profile.
@@ -139,6 +145,8 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
         raise ComponentError(f"build_fmu: fmi_version must be 2 or 3, not {fmi_version!r}")
     # checked before anything is written: the FMU would carry it as its default tolerance
     tolerance = check_tolerance(tolerance, "build_fmu: tolerance")
+    if output is not None:  # before a build of seconds, not after
+        output = writable_file(output, "build_fmu: output", ".fmu")
     model = flatten(component)
     identifier = type(component).__name__
     # the token is derived from the content, so compute both with a placeholder first
@@ -150,12 +158,12 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     token = token_from_digest(digest)
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     if not cached.exists():
+        if announce:
+            announce(f"building the FMU of {identifier} (FMI {fmi_version}, once per machine)")
         _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token),
                  cached, fmi_version, html)
     if output is None:
         return cached
-    output = Path(output)
-    output.parent.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(cached, output)
     return output
 

@@ -61,3 +61,28 @@ def test_a_terminal_gets_a_bar_redrawn_in_place_and_a_newline_at_the_end():
         "  [----------] t = 0 / 3600 s (0.0 %), 5 min 00 s elapsed, time left not known yet\x1b[K",
         "  [##--------] t = 900 / 3600 s (25.0 %), 10 min 00 s elapsed, about 30 min 00 s left"
         "\x1b[K"]
+
+
+def test_the_command_says_when_it_builds_an_fmu(monkeypatch, tmp_path, capsys):
+    """A build takes seconds (a 64-mode beam, more), so a command that builds is never
+    silent: one line on stderr per FMU compiled, none when the cache has it."""
+    import fmus.build
+    from assemblies.cli import _say_when_building
+    from components import SpringBlock
+
+    compiled = []
+
+    def compile_stand_in(identifier, c_source, xml, target, fmi_version, html=""):
+        compiled.append(identifier)  # gcc is not what this test is about
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(b"")
+
+    monkeypatch.setenv("MECHFMU_CACHE", str(tmp_path))
+    monkeypatch.setattr(fmus.build, "_compile", compile_stand_in)
+    monkeypatch.setattr(fmus.build, "announce", None)
+    _say_when_building()
+    fmus.build.build_fmu(SpringBlock(), fmi_version=3)
+    fmus.build.build_fmu(SpringBlock(), fmi_version=3)  # cached: nothing to say
+    assert compiled == ["SpringBlock"]
+    assert capsys.readouterr().err == ("building the FMU of SpringBlock (FMI 3, once per "
+                                       "machine)\n")
