@@ -6,7 +6,7 @@
  * Explicit to implicit: after each accepted DOPRI5 step, Hairer's stiffness test
  * (DOPRI5's own) estimates h |lambda| from the last two stages, which share their time
  * (|f(x7) - f(x6)| / |x7 - x6|). A step limited by stability rather than by accuracy
- * sits at the edge of the stability region, h |lambda| near 3.3; 15 such steps, not
+ * sits at the edge of the stability region, h |lambda| near 3.2; 15 such steps, not
  * interrupted by 6 others in a row (Hairer's rule), mean stiffness, and the implicit
  * method takes over.
  *

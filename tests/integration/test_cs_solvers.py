@@ -110,10 +110,14 @@ def test_steep_friction_is_far_cheaper_implicitly_and_both_are_right(version):
     assert implicit["steps"] * 100 < explicit["steps"], (explicit, implicit)
     assert implicit["jac"] == implicit["steps"]  # one per step; rejections reuse it
     assert explicit["jac"] == 0
-    # the automatic choice finds the stiffness itself: within a small factor of RODAS3
+    # the automatic choice finds the stiffness itself: no dearer than RODAS3 alone
+    # (measured: 1.5e3 evaluations against RODAS3's 3.8e3, DOPRI5 taking the slips),
+    # with the same mode changes (an explicit step at its stability edge near the steep
+    # part rings and would add spurious ones)
     automatic = runs[AUTO][2]
-    assert automatic["rhs"] < 3 * implicit["rhs"] + 1000, (automatic, implicit)
+    assert automatic["rhs"] < 2 * implicit["rhs"], (automatic, implicit)
     assert 0 < automatic["jac"] < automatic["steps"], automatic  # it went both ways
+    assert automatic["events"] == implicit["events"], (automatic, implicit)
 
 
 @pytest.mark.parametrize("version", VERSIONS)

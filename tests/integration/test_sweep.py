@@ -208,6 +208,6 @@ def test_the_bar_counts_runs_on_a_terminal():
     sweep("stick_slip", {"block.m": [1.0, 1.5, 2.0]}, workers=0, progress=bar)
     bar.close()
     frames = screen.getvalue().split("\r")
-    assert [f.split("%")[1].split()[:4] for f in frames[1:]] == [
-        ["runs", "=", "1", "/"], ["runs", "=", "2", "/"], ["runs", "=", "3", "/"]]
-    assert "[" + "#" * 30 + "] 100.0 %  runs = 3 / 3 " in screen.getvalue()
+    assert [f.split("] ")[1].split()[:5] for f in frames[1:]] == [
+        ["runs", "=", "1", "/", "3"], ["runs", "=", "2", "/", "3"], ["runs", "=", "3", "/", "3"]]
+    assert "[" + "#" * 30 + "] runs = 3 / 3 (100.0 %)" in screen.getvalue()
