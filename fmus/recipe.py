@@ -40,6 +40,9 @@ _ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+")
 _OUTSIDE = tuple({f(p) + os.sep for p in (sys.prefix, sys.base_prefix, sys.exec_prefix)
                   for f in (os.path.abspath, os.path.realpath)})
 # what a class declares; its source says the same, unless a program changed it since
+# what an instance holds that no generated file depends on (checked for the name: the
+# model is named by its class; whether the profile was chosen by hand or by an assembly)
+_NOT_IN_THE_FMU = ("name", "profile_explicit")
 _DECLARATIONS = ("parameters", "options", "states", "ports", "profiles", "constraints",
                  "modes", "default_stop_time", "__doc__")
 
@@ -99,7 +102,9 @@ def _imported_names(module: str, is_package: bool, text: str) -> set[str]:
     return names
 
 
-_closures: dict = {}  # modules -> (((path, stat), ...), external): re-read once a file changes
+# modules -> (((path, stat), ...), external, ((module, path), ...)): found again once a
+# file changes or a module is another file
+_closures: dict = {}
 
 
 def _stat(path: str) -> tuple:
@@ -113,12 +118,14 @@ def source_closure(modules: list[str]) -> tuple[list[Path], set[str]]:
     transitively. Memoised in the process until one of the files changes on disk."""
     memo = _closures.get(tuple(modules))
     if memo is not None:
+        ordered, external, located = memo
         try:
-            if all(_stat(path) == stat for path, stat in memo[0]):
-                return [Path(p) for p, _ in memo[0]], memo[1]
+            if all(_stat(path) == stat for path, stat in ordered) and \
+                    all(_module_file(name, set()) == path for name, path in located):
+                return [Path(p) for p, _ in ordered], external
         except OSError:
             pass
-    files, external, seen, roots = {}, set(), set(), set()
+    files, external, seen, roots, located = {}, set(), set(), set(), []
     pending = list(modules)
     while pending:
         name = pending.pop()
@@ -139,11 +146,12 @@ def source_closure(modules: list[str]) -> tuple[list[Path], set[str]]:
         with open(path, encoding="utf-8") as fh:
             text = fh.read()
         files[path] = stat
+        located.append((name, path))
         depth = name.count(".") + (2 if path.endswith("__init__.py") else 1)
         roots.add(path.rsplit(os.sep, depth)[0])
         pending.extend(_imported_names(name, path.endswith("__init__.py"), text))
     ordered = tuple(sorted(files.items()))
-    _closures[tuple(modules)] = (ordered, external)
+    _closures[tuple(modules)] = (ordered, external, located)
     return [Path(p) for p, _ in ordered], external
 
 
@@ -183,7 +191,7 @@ def recipe(component, fmi_version: int, tolerance: float, toolchain: list[str],
         return None
     bases = [c.__module__ for c in cls.__mro__ if c is not object]
     instance = [(key, _stable_repr(value)) for key, value in sorted(vars(component).items())
-                if key != "name"]
+                if key not in _NOT_IN_THE_FMU]
     return combine("mechfmu-recipe", RECIPE_VERSION, f"python {sys.version_info[:2]}",
                    _versions({"casadi", "numpy", "fmpy"}), modules_digest(toolchain),
                    modules_digest(bases), files_digest(runtime_files), list(cflags),
