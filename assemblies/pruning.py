@@ -16,7 +16,9 @@ from __future__ import annotations
 from components.component import Component
 
 from .assembly import Assembly
-from .engine.prepare import class_defaults
+from .engine.prepare import binary_key, class_defaults
+
+_ends_run: dict = {}  # binary_key -> can end the run (a fact of class, profile and options)
 
 
 def influences(assembly: Assembly) -> dict[str, set[str]]:
@@ -32,8 +34,11 @@ def can_end_the_run(component) -> bool:
     """Can this instance end the run for everyone? Always so for a foreign FMU."""
     if not isinstance(component, Component):
         return True
-    from fmus.build import component_facts
-    return component_facts(class_defaults(component))["can_terminate"]
+    key = binary_key(component)
+    if key not in _ends_run:
+        from fmus.build import component_facts
+        _ends_run[key] = component_facts(class_defaults(component))["can_terminate"]
+    return _ends_run[key]
 
 
 def needed_instances(assembly: Assembly, record: list[str] | None) -> list[str]:

@@ -208,7 +208,7 @@ def files_digest(paths: list[Path]) -> str:
     it is unchanged on disk)."""
     parts = []
     for path in paths:
-        path = str(path)
+        path = os.fspath(path)
         stamp = (path, *_stat(path))
         digest = _digests.get(stamp)
         if digest is None:
@@ -219,11 +219,28 @@ def files_digest(paths: list[Path]) -> str:
     return combine(*parts)
 
 
+_module_digests: dict = {}  # modules -> (((path, stat), ...), ((module, path), ...), digest)
+
+
 def modules_digest(modules: list[str]) -> str:
     """Hex digest of the sources `modules` are built from (:func:`source_closure`) and
-    of the versions of the third-party packages they import."""
+    of the versions of the third-party packages they import; memoised in the process
+    until one of the files changes or a module is another file."""
+    key = tuple(modules)
+    memo = _module_digests.get(key)
+    if memo is not None:
+        stats, located, digest = memo
+        try:
+            if all(_stat(path) == stat for path, stat in stats) and \
+                    all(_module_file(name, set()) == path for name, path in located):
+                return digest
+        except OSError:
+            pass
     files, external = source_closure(modules)
-    return combine(_versions(external), files_digest(files))
+    ordered, _, located = _closures[key]
+    digest = combine(_versions(external), files_digest(files))
+    _module_digests[key] = (ordered, located, digest)
+    return digest
 
 
 def combine(*parts) -> str:

@@ -8,6 +8,7 @@ import pytest
 
 import assemblies.engine.me as engine_me
 import assemblies.engine.prepare as prepare
+import assemblies.pruning as pruning
 import fmus.build as build
 import fmus.recipe as recipe
 from assemblies.run import run_scene
@@ -26,6 +27,8 @@ def _forget_the_process(monkeypatch):
     monkeypatch.setattr(prepare, "_by_key", {})
     monkeypatch.setattr(engine_me, "_plans", {})
     monkeypatch.setattr(recipe, "_closures", {})
+    monkeypatch.setattr(recipe, "_module_digests", {})
+    monkeypatch.setattr(pruning, "_ends_run", {})
     monkeypatch.setattr(recipe, "_digests", {})
     prepare.prepared_path.cache_clear()
 
