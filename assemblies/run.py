@@ -13,6 +13,7 @@ from .masters.cosim import cosimulate
 from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
 from .plot import column_units, plot_result
+from .pruning import prune_unrecorded
 from .result import Result
 from .scenes import Figure, Scene, scene
 
@@ -97,7 +98,7 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
               tolerance: float | None = None, params: dict | None = None,
               out: str | Path | None = None, scheme: str | None = None, progress=None,
               mode: str | None = None, adaptive: bool | float | None = None,
-              extrapolation: int | None = None, engine: str = "c") -> Result:
+              extrapolation: int | None = None, engine: str = "c", prune: bool = True) -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
     `mode` picks the master: ``cosim`` (Co-Simulation FMUs), ``me`` (Model Exchange FMUs
@@ -115,9 +116,13 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     ``gauss-seidel``. These three belong to ``cosim``: another mode refuses them.
     With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
     The measured figures are on ``res.figures``.
+
+    Instances that cannot influence the recorded outputs are not run
+    (:mod:`assemblies.pruning`; ``settings["pruned"]`` names them); ``prune=False``
+    runs every instance.
     """
     return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
-                          mode, adaptive, extrapolation, engine).result
+                          mode, adaptive, extrapolation, engine, prune).result
 
 
 def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> dict:
@@ -152,7 +157,7 @@ def check_cosim_only(mode: str, **settings) -> None:
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
-                   extrapolation=None, engine="c") -> SceneRun:
+                   extrapolation=None, engine="c", prune=True) -> SceneRun:
     """As :func:`run_scene`, with the figures; `name` may also be a :class:`Scene` that is
     not in the registry (a parameter study runs an assembly given to it as one)."""
     sc = name if isinstance(name, Scene) else scene(name)
@@ -170,26 +175,29 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     for key, value in (params or {}).items():
         asm.set(key, value)
     check_mode(asm, mode)  # a foreign FMU the mode cannot run: one line, before any work
+    # the figures read the whole assembly's values; the masters run what the record needs
+    run_asm, pruned = prune_unrecorded(asm, sc.record) if prune else (asm, [])
     common = dict(stop_time=stop_time if stop_time is not None else sc.stop_time,
                   step=step if step is not None else sc.step,
                   tolerance=tolerance if tolerance is not None else sc.tolerance,
                   record=sc.record, progress=progress)
     run_cosim, run_me, run_monolithic = _masters(engine)
-    single_fmu = (engine == "c" and len(asm.components) == 1 and adaptive is None
+    single_fmu = (engine == "c" and len(run_asm.components) == 1 and adaptive is None
                   and extrapolation is None and scheme is None)
     if mode == "cosim" and single_fmu:
         # one FMU and nothing to couple: no communication step to choose, so its solver
         # steps freely and outputs come from its dense output
-        result = run_me(asm, **common)
+        result = run_me(run_asm, **common)
         result.settings["scheme"] = "single FMU (free steps, dense output)"
     elif mode == "cosim":
-        result = run_cosim(asm, scheme=scheme or "jacobi", **cosim_scheme(adaptive, extrapolation),
-                           **common)
+        result = run_cosim(run_asm, scheme=scheme or "jacobi",
+                           **cosim_scheme(adaptive, extrapolation), **common)
     elif mode == "me":
-        result = run_me(asm, **common)
+        result = run_me(run_asm, **common)
     else:
-        result = run_monolithic(asm, **common)
+        result = run_monolithic(run_asm, **common)
     result.settings.setdefault("engine", engine)
+    result.settings["pruned"] = pruned
     run = SceneRun(name, result, sc.figures(result, asm))
     result.figures = run.figures
     if out is not None:

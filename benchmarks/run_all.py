@@ -232,6 +232,9 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
             "integrate in modal coordinates (diagonal K, O(N) per RHS); an explicit solver on "
             "this model cannot beat the N² stability limit.", ""]
 
+    startup = HERE / "overhead.json"  # written by `python -m benchmarks.overhead`
+    if startup.exists():
+        out += overhead.startup_section(json.loads(startup.read_text()))
     out += ["## Overheads (fmpy through ctypes)", "", "| call | time per call |", "| --- | --- |"]
     out += [f"| {k} | {v * 1e6:.2f} µs |" for k, v in calls.items()]
     out += ["", "## Build (one-time, excluded from the wall times)", "",

@@ -21,6 +21,7 @@ import numpy as np
 from components.component import Component
 from components.interfaces import ComponentError
 from components.dae import flatten
+from fmus.build import component_facts, recipes
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment
@@ -29,7 +30,8 @@ from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
-from .prepare import binary_key, prepared, prepared_composite, record_columns
+from .prepare import (assembly_recipe, binary_key, class_defaults, prepared, prepared_composite,
+                      record_columns)
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
@@ -164,9 +166,9 @@ def _structure_key(assembly: Assembly) -> tuple:
 
 def indicators_follow_time(component) -> bool:
     """Is one of the component's event indicators written in terms of time? Then it can
-    move while every state stands still."""
-    flat = flatten(component)
-    return bool(flat.z.numel()) and ca.depends_on(flat.z, flat.t)
+    move while every state stands still. (A fact of its class, profile and options,
+    kept in the recipe store: read without flattening once known.)"""
+    return component_facts(class_defaults(component))["indicators_follow_time"]
 
 
 def step_limit_needed(assembly: Assembly) -> bool:
@@ -183,10 +185,17 @@ def step_limit_needed(assembly: Assembly) -> bool:
         return True
     if len(components) == 1 and not assembly.connections:
         return indicators_follow_time(components[0])
+    key = assembly_recipe(assembly, "indicators_follow_time")
+    known = recipes().get(key).get("indicators_follow_time")
+    if known is not None:
+        return known
     try:
-        return indicators_follow_time(composite(assembly))
+        flat = flatten(composite(assembly))
     except (AssemblyError, ComponentError):  # not joinable; bad values are the FMUs' to name
         return True
+    follows = bool(flat.z.numel()) and bool(ca.depends_on(flat.z, flat.t))
+    recipes().update(key, indicators_follow_time=follows)
+    return follows
 
 
 def _plan(key, build) -> _Plan:
@@ -276,8 +285,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
     started = wallclock.perf_counter()
 
     def build():
-        comp, fmu = prepared_composite(assembly)
-        joined = comp.joined
+        joined, fmu = prepared_composite(assembly)
         if record is None:
             columns = [(0, f"{name}.{v}") for name, vs in joined.outputs.items() for v in vs
                        if f"{name}.{v}" in fmu.variables]
@@ -304,7 +312,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                 for k in [*c.values, *c.starts]]
         plan = _Plan([("assembly", fmu, keys)], [], columns, groups)
         plan.members = members
-        plan.capped = indicators_follow_time(comp)
+        plan.capped = joined.indicators_follow_time
         return plan
 
     key = ("monolithic", _structure_key(assembly), None if record is None else tuple(record))

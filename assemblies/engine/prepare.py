@@ -3,23 +3,31 @@
 Preparing an FMU means building it (``fmus.build_fmu`` of the class defaults under the
 instance's profile and options: parameter studies reuse one binary, the instance's own
 values are set as start values), reading its model description and extracting it.
-That costs 0.02-0.3 s (flatten, codegen, hashing, unzip) and would dwarf a 1 ms run,
-so the result is memoised by what determines the binary (:func:`binary_key`): the
-component's class, profile, options and FMI version. A second run in one process
-does none of it. A foreign FMU (:class:`assemblies.foreign.FMU`) is not built: its
-file is prepared as it is (:func:`prepared_path`), memoised by path and file stamp.
+Done naively that costs 0.02-0.3 s (flatten, codegen, hashing, unzip, XML) and would
+dwarf a 1 ms run, so nothing of it is repeated:
+
+- in one process, the result is memoised by what determines the binary
+  (:func:`binary_key`): the component's class, profile, options and FMI version;
+- across processes, the FMU is found by its recipe (:func:`fmus.build.fetch_fmu`, no
+  flattening), and an FMU of the cache is extracted once, beside a JSON of what its
+  model description says (:func:`prepared_path`), so a cached run reads one small file.
+
+A foreign FMU (:class:`assemblies.foreign.FMU`) is not built: its file is prepared as
+it is, memoised in the process by path and file stamp.
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
+import json
+import os
+import shutil
 import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from fmpy import extract, read_model_description
-
-from components.dae import flatten
-from fmus import build_fmu
+from fmus.build import cache_dir, cached_fmu, fetch_fmu, fmu_recipe, recipes
+from fmus.recipe import combine, files_digest
 
 from ..assembly import AssemblyError
 from ..foreign import FMU
@@ -71,15 +79,29 @@ class PreparedFmu:
 @functools.lru_cache(maxsize=None)
 def prepared_path(path: str, stamp: tuple = ()) -> PreparedFmu:
     """An FMU file, ours or any tool's, read and extracted once (the same file is never
-    extracted twice); `stamp` (e.g. its mtime and size) makes a file rebuilt at the
-    same path a different entry."""
+    extracted twice in a process); `stamp` (e.g. its mtime and size) makes a file
+    rebuilt at the same path a different entry. An FMU of the cache (named by its
+    content, so never rewritten) is extracted once for all processes."""
+    path = str(path)
+    if Path(path).parent == cache_dir() / "fmus":
+        return _prepared_in_cache(Path(path))
+    return _read(path, _extract_to_temp(path))
+
+
+def _extract_to_temp(path: str) -> str:
+    from fmpy import extract
+    return str(Path(extract(path)))
+
+
+def _read(path: str, unzip_dir: str) -> PreparedFmu:
+    from fmpy import read_model_description
     # not validated: fmpy's validation rejects what many tools write (CasADi's export
     # lacks UnitDefinitions) though the engine needs none of it; ours are validated by
     # the tests
     md = read_model_description(path, validate=False)
     me, cs = md.modelExchange, md.coSimulation
     p = PreparedFmu(
-        path=path, unzip_dir=str(Path(extract(path))), token=md.guid,
+        path=path, unzip_dir=unzip_dir, token=md.guid,
         fmi_version=int(md.fmiVersion[0]),
         me_identifier=me.modelIdentifier if me else None,
         cs_identifier=cs.modelIdentifier if cs else None,
@@ -97,6 +119,51 @@ def prepared_path(path: str, stamp: tuple = ()) -> PreparedFmu:
     return p
 
 
+def _prepared_in_cache(path: Path) -> PreparedFmu:
+    """cache/prepared/<fmu name>/ (the extracted FMU) and <fmu name>.json (its PreparedFmu):
+    written once, atomically, read by every later process."""
+    folder = cache_dir() / "prepared"
+    unzip_dir, summary = folder / path.stem, folder / f"{path.stem}.json"
+    try:
+        saved = json.loads(summary.read_text())
+        if unzip_dir.is_dir():
+            return _from_json(saved, str(path), str(unzip_dir))
+    except (OSError, ValueError, TypeError, KeyError):
+        pass
+    import zipfile
+    folder.mkdir(parents=True, exist_ok=True)
+    if not unzip_dir.is_dir():
+        partial = folder / f"{path.stem}.{os.getpid()}.partial"
+        shutil.rmtree(partial, ignore_errors=True)
+        with zipfile.ZipFile(path) as zf:
+            zf.extractall(partial)
+        try:
+            partial.rename(unzip_dir)  # atomic; a parallel process may have won the race
+        except OSError:
+            shutil.rmtree(partial, ignore_errors=True)
+    p = _read(str(path), str(unzip_dir))
+    partial = summary.with_suffix(f".{os.getpid()}.partial")
+    partial.write_text(json.dumps(_to_json(p)))
+    partial.replace(summary)
+    return p
+
+
+def _to_json(p: PreparedFmu) -> dict:
+    d = dataclasses.asdict(p)
+    d["depends"] = {k: sorted(v) for k, v in p.depends.items()}
+    d["chained"] = sorted(p.chained)
+    del d["path"], d["unzip_dir"]  # where the reader finds them
+    return d
+
+
+def _from_json(d: dict, path: str, unzip_dir: str) -> PreparedFmu:
+    d = dict(d, path=path, unzip_dir=unzip_dir)
+    d["variables"] = {k: tuple(v) for k, v in d["variables"].items()}
+    d["depends"] = {k: set(v) for k, v in d["depends"].items()}
+    d["chained"] = set(d["chained"])
+    return PreparedFmu(**d)
+
+
 def options_key(component) -> tuple:
     """The component's options as a hashable key (the options shape the binary)."""
     return tuple(sorted((k, repr(v)) for k, v in component.option_values.items()))
@@ -110,6 +177,13 @@ def binary_key(component) -> tuple:
     return (type(component), component.profile.name, options_key(component))
 
 
+def class_defaults(component):
+    """A component of `component`'s class, profile and options with the class's default
+    values: what its FMU is built from (values and starts are set per run)."""
+    return type(component)(name=component.name, profile=component.profile.name,
+                           **component.option_values)
+
+
 def prepared(component, fmi_version: int = 3) -> PreparedFmu:
     """The FMU of `component`'s class under its profile and options (see the module doc);
     a foreign FMU's own file (`fmi_version` is then the file's, not a choice)."""
@@ -120,19 +194,70 @@ def prepared(component, fmi_version: int = 3) -> PreparedFmu:
         hit = _by_key.get(key)
     if hit is not None:
         return hit
-    defaults = type(component)(name=component.name, profile=component.profile.name,
-                               **component.option_values)
-    fmu = prepared_path(str(build_fmu(defaults, fmi_version=fmi_version)))
-    fmu.chained = {v.name for v in flatten(component).inputs if v.derivative_input is not None}
+    built = fetch_fmu(class_defaults(component), fmi_version=fmi_version)
+    fmu = prepared_path(str(built.path))
+    fmu.chained = set(built.facts["chained_inputs"])
     with _lock:
         _by_key[key] = fmu
     return fmu
 
 
-def prepared_composite(assembly, fmi_version: int = 3):
-    """(composite component, its PreparedFmu) of a joined assembly, memoised by the
-    assembly's structure: names, classes, profiles, options and connections. The
-    composite's parameters and starts are set per run, so values are not in the key."""
+@dataclass
+class JoinedLayout:
+    """What a run of a composite FMU needs of the joined model, kept in the recipe store
+    so that a cached composite is used without joining anything."""
+    outputs: dict                # instance -> names of its outputs, in FMU order
+    owner_of_indicator: list     # instance owning each event indicator of the composite
+    indicators_follow_time: bool
+
+
+def assembly_recipe(assembly, *parts) -> str | None:
+    """A recipe key of `assembly`'s structure: each member's class recipe (at its class
+    defaults) under its resolved profile and options, the connections and `parts`; None
+    where a member has no recipe (a foreign FMU, a class made at run time)."""
+    assembly.resolve_causality()
+    members = []
+    for name, comp in assembly.components.items():
+        if isinstance(comp, FMU):
+            return None
+        member = fmu_recipe(class_defaults(comp))
+        if member is None:
+            return None
+        members.append((name, member))
+    return combine("assembly", assembly.name, assembly.signals_from_outside, members,
+                   [(c.a, c.b) for c in assembly.connections], files_digest(_JOINING_CODE),
+                   *parts)
+
+
+# what turns members into one model beyond the members' own recipes (which hold the
+# builder and the components): the joining and the causality resolution. Named, not
+# followed through imports: the closure of these modules is the whole package, and
+# reading it would cost a cached run 15 ms
+_ASSEMBLIES = Path(__file__).resolve().parent.parent
+_JOINING_CODE = [_ASSEMBLIES / "masters" / "monolithic.py", _ASSEMBLIES / "assembly.py",
+                 _ASSEMBLIES / "causality.py"]
+
+
+def defaults_assembly(assembly):
+    """A copy of `assembly` whose members carry their class defaults under the profiles
+    resolved for `assembly`: what a composite FMU is built from, so that parameter
+    studies reuse one binary (values and starts are set per run)."""
+    from ..assembly import Assembly
+    assembly.resolve_causality()
+    copy = Assembly(assembly.name)
+    copy.signals_from_outside = assembly.signals_from_outside
+    for name, comp in assembly.components.items():
+        copy.add(name, class_defaults(comp))
+    for c in assembly.connections:
+        copy.connect(c.a, c.b)
+    return copy
+
+
+def prepared_composite(assembly, fmi_version: int = 3) -> tuple[JoinedLayout, PreparedFmu]:
+    """(layout of the joined model, its PreparedFmu) of a joined assembly, memoised by
+    the assembly's structure: names, classes, profiles, options and connections, in the
+    process and (through :func:`assembly_recipe`) across processes. The composite's
+    parameters and starts are set per run, so values are not in the key."""
     from ..masters.monolithic import composite
     assembly.resolve_causality()
     key = ("composite", assembly.name, fmi_version, tuple(
@@ -142,8 +267,17 @@ def prepared_composite(assembly, fmi_version: int = 3):
         hit = _by_key.get(key)
     if hit is not None:
         return hit
-    comp = composite(assembly)
-    result = (comp, prepared_path(str(build_fmu(comp, fmi_version=fmi_version))))
+    recipe = assembly_recipe(assembly, "composite", fmi_version)
+    saved = recipes().get(recipe).get("layout")
+    built = cached_fmu(recipe) if saved is not None else None
+    if built is None:
+        comp = composite(defaults_assembly(assembly))
+        built = fetch_fmu(comp, fmi_version=fmi_version, key=recipe)
+        saved = {"outputs": comp.joined.outputs,
+                 "owner_of_indicator": list(comp.joined.owner_of_indicator),
+                 "indicators_follow_time": built.facts["indicators_follow_time"]}
+        recipes().update(recipe, layout=saved)
+    result = (JoinedLayout(**saved), prepared_path(str(built.path)))
     with _lock:
         _by_key[key] = result
     return result
