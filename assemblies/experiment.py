@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from components.errors import check_tolerance, positive_finite
 
 from .assembly import AssemblyError
@@ -14,6 +16,15 @@ def check_experiment(stop_time: float, step: float, tolerance: float,
     positive_finite(stop_time, "stop time", AssemblyError)
     positive_finite(step, step_name, AssemblyError)
     check_tolerance(tolerance, "tolerance", AssemblyError)
+
+
+def output_times(stop_time: float, step: float) -> np.ndarray:
+    """0, step, 2 step, ... and the stop time last (a last interval may be shorter);
+    built by numpy, since a long run has millions of rows."""
+    n_out = max(1, math.ceil(stop_time / step - 1e-9))
+    times = np.minimum(np.arange(n_out + 1) * step, stop_time)
+    times[-1] = stop_time
+    return times
 
 
 def check_cosim_settings(scheme: str, extrapolation: int, adaptive: bool, tol: float) -> None:

@@ -14,16 +14,23 @@ class ConstantSpeed(Component):
     Parameters: ``v`` [m/s] speed, ``s0`` [m] position at t = 0.
     Connector: ``flange`` — outputs its motion (s, v, a), takes the force needed to
     move it as an input (reported, never fed back into the motion).
+
+    The distance travelled is a state, travel' = v, rather than v t written in time:
+    the model is then autonomous, so an assembly held by a wall (v = 0) is seen to
+    stand still for good once nothing else moves, and a driver's motion moves a state
+    the solvers see; every solver integrates travel' = v exactly (to rounding).
     """
 
     parameters = (Parameter("v", 0.05, "m/s", "prescribed speed"),
                   Parameter("s0", 0.0, "m", "position at t = 0"))
+    states = (State("travel", 0.0, "m", "distance moved since t = 0: s = s0 + travel"),)
     ports = (Port("flange", TRANSLATIONAL, "the driven flange"),)
     profiles = (Profile("kinematic", "motion out, reaction force in", {"flange": FORCE_IN}),)
 
     def equations(self, e):
         flange = e.port("flange")
-        e.residual(flange.s - (e.p.s0 + e.p.v * e.t))
+        e.residual(e.der.travel - e.p.v)
+        e.residual(flange.s - (e.p.s0 + e.x.travel))
         e.residual(flange.v - e.p.v)
         e.residual(flange.a)
 

@@ -57,7 +57,7 @@ class Stats(C.Structure):  # eng_stats
     _fields_ = [("status", C.c_int), ("n_rows", C.c_long), ("t_end", C.c_double),
                 ("steps", C.c_long), ("rejected", C.c_long), ("rhs_calls", C.c_long),
                 ("jacobians", C.c_long), ("events", C.c_long), ("method_switches", C.c_long),
-                ("terminated_by", C.c_int),
+                ("at_rest_from", C.c_double), ("terminated_by", C.c_int),
                 ("message", C.c_char * 1024)]
 
 
@@ -69,7 +69,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("n_times", C.c_long), ("times", _P(C.c_double)), ("out", _P(C.c_double)),
                 ("stop_time", C.c_double), ("tolerance", C.c_double), ("method", C.c_int),
                 ("event_subsamples", C.c_int), ("max_step", C.c_double),
-                ("progress", PROGRESS_FN), ("progress_ctx", C.c_void_p)]
+                ("progress", PROGRESS_FN), ("progress_ctx", C.c_void_p),
+                ("autonomous", C.c_int)]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
-                          fixed_step_fallback)
+                          fixed_step_fallback, output_times)
 from ..foreign import check_mode
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
@@ -66,7 +66,7 @@ class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
                 ("tol", C.c_double), ("loop_tolerance", C.c_double),
                 ("max_loop_iterations", C.c_int), ("newton", C.c_int), ("event_sync", C.c_int),
                 ("event_tol", C.c_double), ("progress", PROGRESS_FN),
-                ("progress_ctx", C.c_void_p)]
+                ("progress_ctx", C.c_void_p), ("derivatives", _P(Variable))]
 
 
 class _CosimStats(C.Structure):  # cosim.h: eng_cosim_stats
@@ -74,7 +74,8 @@ class _CosimStats(C.Structure):  # cosim.h: eng_cosim_stats
                 ("loop_residual", C.c_double), ("h_min", C.c_double), ("h_max", C.c_double),
                 ("error_ratio_max", C.c_double), ("events_synchronised", C.c_long),
                 ("events_located", C.c_long), ("loop_failed_group", C.c_int),
-                ("loop_singular", C.c_int), ("loop_failed_time", C.c_double)]
+                ("loop_singular", C.c_int), ("loop_failed_time", C.c_double),
+                ("at_rest_from", C.c_double)]
 
 
 @dataclass
@@ -190,13 +191,16 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     spec.sweep_order = keep.array(C.c_int, plan.sweep_order)
     spec.n_states = len(plan.states)
     spec.states = keep.array(Variable, [Variable(*v) for v in plan.states])
+    if plan.states and all(fmus[n].autonomous for n in names):
+        # every instance ours and without explicit time: where all derivatives are zero
+        # the assembly stands still for good, and the engine stops stepping (cosim.h)
+        spec.derivatives = keep.array(Variable, [Variable(*plan.variable(n, d)) for n in names
+                                                 for d in fmus[n].derivatives])
     columns = record_columns(fmus, record)
     spec.n_columns, spec.columns = len(columns), keep.array(Variable, [var(i, v) for i, v in columns])
 
-    n_out = max(1, math.ceil(stop_time / step - 1e-9))
-    times = np.array([0.0] + [min((k + 1) * step, stop_time) for k in range(n_out)])
-    times[-1] = stop_time
-    out = np.full((n_out + 1, 1 + len(columns)), np.nan)
+    times = output_times(stop_time, step)
+    out = np.empty((len(times), 1 + len(columns)))  # the C writes rows [0, n_rows)
     spec.n_times, spec.times = len(times), keep.numpy(times, C.c_double)
     spec.out = keep.numpy(out, C.c_double)
     spec.stop_time, spec.tolerance, spec.step = stop_time, tolerance, step
@@ -234,13 +238,15 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     header = ["time"] + [f"{i}.{v}" for i, v in columns]
     settings = {"engine": "c", "stop_time": stop_time, "step": step, "tolerance": tolerance,
                 "scheme": scheme, "extrapolation": extrapolation, "adaptive": bool(adaptive),
-                "event_sync": event_sync, "wall_s": wallclock.perf_counter() - started, "setup_s": setup_s,
+                "event_sync": event_sync, "wall_s": wallclock.perf_counter() - started,
+                "setup_s": setup_s,
                 "terminated": terminated, "do_steps": cstats.do_steps, "steps": stats.steps,
                 "rejected": stats.rejected,
                 "loops": [" -> ".join(".".join(couplings[k].source) for k in g) for g in loops],
                 "loop_iterations": cstats.loop_iterations, "loop_residual": cstats.loop_residual,
                 "events_synchronised": cstats.events_synchronised,
-                "events_located": cstats.events_located, "fallback": fallback}
+                "events_located": cstats.events_located, "fallback": fallback,
+                "at_rest_from": None if math.isinf(cstats.at_rest_from) else cstats.at_rest_from}
     if stats.status == STOPPED:
         settings["stopped"] = f"at t = {out[-1, 0]:g}" + (
             " by Ctrl-C" if progress_cb.interrupted else " by the progress callback")

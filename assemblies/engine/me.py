@@ -24,7 +24,7 @@ from components.dae import flatten
 from fmus.build import component_facts, recipes
 
 from ..assembly import Assembly, AssemblyError
-from ..experiment import check_experiment
+from ..experiment import check_experiment, output_times
 from ..foreign import check_mode
 from ..masters.me import coupling_order
 from ..result import Result, Table
@@ -38,11 +38,6 @@ from .prepare import (assembly_recipe, binary_key, class_defaults, prepared, pre
 METHODS = {"DOPRI5": 0, "RODAS3": 1, "auto": 2}
 _BY_SOLVER_SETTING = {0: "DOPRI5", 1: "RODAS3", 2: "auto"}
 EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
-
-
-def _output_times(stop_time: float, step: float) -> np.ndarray:
-    n_out = max(1, math.ceil(stop_time / step - 1e-9))
-    return np.minimum(np.arange(n_out + 1) * step, stop_time)
 
 
 class _Plan:
@@ -108,15 +103,16 @@ class _Plan:
             scheme) -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
         lib = _engine()
-        times = _output_times(stop_time, step)
-        out = np.zeros((len(times), len(self.column_names)))
+        times = output_times(stop_time, step)
+        out = np.empty((len(times), len(self.column_names)))  # the C writes rows [0, n_rows)
         prog = B.Progress(progress)
         dp = C.POINTER(C.c_double)
         spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
                         len(self.column_names), self.columns, len(self.groups),
                         self.group_array, len(times), times.ctypes.data_as(dp),
                         out.ctypes.data_as(dp), stop_time, tolerance, METHODS[method],
-                        event_subsamples, step if self.capped else 0.0, prog.callback, None)
+                        event_subsamples, step if self.capped else 0.0, prog.callback, None,
+                        int(all(f.autonomous for f in self.fmus)))
         stats = B.Stats()
         started = wallclock.perf_counter()
         with prog.sigint():
@@ -141,6 +137,7 @@ class _Plan:
             "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
             "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
             "method_switches": stats.method_switches,
+            "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
             "terminated": None if stats.status != B.TERMINATED else
             {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,

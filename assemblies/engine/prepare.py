@@ -54,7 +54,9 @@ class PreparedFmu:
     inputs: list = field(default_factory=list)
     depends: dict = field(default_factory=dict)    # output -> the inputs it depends on
     states: list = field(default_factory=list)
+    derivatives: list = field(default_factory=list)  # of `states`, in their order
     chained: set = field(default_factory=set)      # inputs the FMU extrapolates itself
+    autonomous: bool = False  # ours, with no explicit time (fmus.build.model_facts)
 
     @property
     def model_identifier(self) -> str:
@@ -116,6 +118,7 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
                                    {d.name for d in u.dependencies if d.causality == "input"})
                  for u in md.outputs}
     p.states = [u.variable.derivative.name for u in md.derivatives]
+    p.derivatives = [u.variable.name for u in md.derivatives]
     return p
 
 
@@ -197,6 +200,7 @@ def prepared(component, fmi_version: int = 3) -> PreparedFmu:
     built = fetch_fmu(class_defaults(component), fmi_version=fmi_version)
     fmu = prepared_path(str(built.path))
     fmu.chained = set(built.facts["chained_inputs"])
+    fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move
     with _lock:
         _by_key[key] = fmu
     return fmu
@@ -277,7 +281,9 @@ def prepared_composite(assembly, fmi_version: int = 3) -> tuple[JoinedLayout, Pr
                  "owner_of_indicator": list(comp.joined.owner_of_indicator),
                  "indicators_follow_time": built.facts["indicators_follow_time"]}
         recipes().update(recipe, layout=saved)
-    result = (JoinedLayout(**saved), prepared_path(str(built.path)))
+    fmu = prepared_path(str(built.path))
+    fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move
+    result = (JoinedLayout(**saved), fmu)
     with _lock:
         _by_key[key] = result
     return result

@@ -1,6 +1,7 @@
 """Component declarations, parameter checks, and the flattened equations per mode."""
 import math
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -90,7 +91,11 @@ def test_moving_support_enters_through_its_acceleration():
 
 
 def test_constant_speed_source():
+    """s = s0 + travel with travel' = v: no explicit time, so the model is autonomous."""
     model = flatten(ConstantSpeed(v=0.05, s0=0.1))
     f = model.functions()
-    y = np.array(f["out"](8.0, [], [], [1.0], [0.05, 0.1])).ravel()
+    travel = 0.05 * 8.0  # what travel' = v gives by t = 8
+    y = np.array(f["out"](8.0, [travel], [], [1.0], [0.05, 0.1])).ravel()
     assert list(y) == pytest.approx([0.5, 0.05, 0.0])
+    assert np.array(f["ode"](8.0, [travel], [], [1.0], [0.05, 0.1])).ravel().tolist() == [0.05]
+    assert not ca.depends_on(ca.vertcat(model.xdot, model.y), model.t)

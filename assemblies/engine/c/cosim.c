@@ -836,6 +836,22 @@ static int one_step(cosim *c, double target)
     return 0;
 }
 
+/* 1 when every state's derivative is exactly zero (see eng_cosim_spec.derivatives),
+   0 when one is not, -1 on failure. */
+static int at_rest(cosim *c)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int j;
+    for (j = 0; j < g->n_states; j++) {
+        const eng_variable *v = &g->derivatives[j];
+        double d;
+        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &d))
+            return fmu_fail(c, v->instance, "get of a state derivative", c->t);
+        if (d != 0.0) return 0;
+    }
+    return 1;
+}
+
 /* The run after initialisation: steps, rows at the output times. */
 static int run(cosim *c, eng_progress *progress)
 {
@@ -872,6 +888,24 @@ static int run(cosim *c, eng_progress *progress)
         if (moved) { /* rows sampled after the event's new time are sampled again */
             while (k > 0 && out_times[k - 1] > c->t + 1e-12 * fmax(1.0, fabs(c->t))) k--;
             c->run_stats->n_rows = k + 1;
+        } else if (g->derivatives && !c->terminated) {
+            int rest = at_rest(c);
+            if (rest < 0) return -1;
+            if (rest) { /* nothing moves any more: every remaining row is this point */
+                double *first = g->out + (size_t)(k + 1) * (size_t)width;
+                long j;
+                if (sample(c, out_times[k], first)) return -1;
+                for (j = k + 1; j < n_out; j++) {
+                    double *row = g->out + (size_t)(j + 1) * (size_t)width;
+                    memcpy(row, first, (size_t)width * sizeof(double));
+                    row[0] = out_times[j];
+                }
+                c->stats->at_rest_from = c->t;
+                c->run_stats->n_rows = n_out + 1;
+                c->run_stats->t_end = out_times[n_out - 1];
+                c->t = out_times[n_out - 1];
+                break;
+            }
         }
     }
     return 0;
@@ -909,6 +943,7 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
     stats->terminated_by = -1;
     cosim_stats->loop_failed_group = -1;
     cosim_stats->h_min = INFINITY;
+    cosim_stats->at_rest_from = INFINITY;
     c.cfg = spec;
     c.run_stats = stats;
     c.stats = cosim_stats;
@@ -949,6 +984,7 @@ eng_cosim *eng_cosim_create(const eng_cosim_spec *spec)
     m->stats.terminated_by = -1;
     m->cosim_stats.loop_failed_group = -1;
     m->cosim_stats.h_min = INFINITY;
+    m->cosim_stats.at_rest_from = INFINITY;
     m->c.cfg = spec;
     m->c.run_stats = &m->stats;
     m->c.stats = &m->cosim_stats;

@@ -72,6 +72,12 @@ typedef struct {
     double event_tol;               /* event synchronisation: final bracket width [s] */
     eng_progress_fn progress;       /* may be NULL */
     void *progress_ctx;
+    /* At rest: the derivative of each of `states`, in their order, when every instance
+       is autonomous (no explicit time in its derivatives, outputs and indicators). A
+       communication point where all are exactly zero, inputs consistent, is a fixed
+       point of the coupled system, which stays there: the remaining rows repeat it and
+       no more steps are taken. NULL: never (an instance may move with time). */
+    const eng_variable *derivatives;
 } eng_cosim_spec;
 
 typedef struct {
@@ -83,6 +89,7 @@ typedef struct {
     int loop_failed_group;          /* after a failure in an algebraic loop: its group ... */
     int loop_singular;              /* ... 1: singular Newton matrix, 0: no convergence ... */
     double loop_failed_time;        /* ... at this time (Python words the message) */
+    double at_rest_from;            /* where the run found the system at rest; INFINITY: never */
 } eng_cosim_stats;
 
 /* Co-simulation of Co-Simulation FMUs, one call per run. stats->status is ENG_DONE,

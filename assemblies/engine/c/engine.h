@@ -84,6 +84,7 @@ typedef struct {
     double t_end;         /* the time the run reached */
     long steps, rejected, rhs_calls, jacobians, events;
     long method_switches; /* between DOPRI5 and RODAS3, with ENG_AUTO */
+    double at_rest_from;  /* where the run found the system at rest for good; INFINITY: never */
     int terminated_by;    /* the instance that ended the run (ENG_TERMINATED), else -1 */
     char message[1024];   /* the error (ENG_FAILED) or the terminating FMU's last message */
 } eng_stats;
@@ -106,6 +107,11 @@ typedef struct {
     double max_step;               /* the longest step; 0: no limit */
     eng_progress_fn progress;      /* may be NULL */
     void *progress_ctx;
+    /* every instance autonomous (no explicit time in its derivatives, outputs and
+       indicators) and no time events: a step that leaves the states as they were, with
+       every derivative exactly zero there, is a fixed point the system keeps, and the
+       remaining rows repeat it with no more steps */
+    int autonomous;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

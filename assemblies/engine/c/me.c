@@ -62,6 +62,7 @@ typedef struct {
     double t_next;
     int terminate;        /* an instance asked to end the run */
     double *x_before;     /* the states before an event's jumps */
+    double *x_start;      /* the states at the start of the step (autonomous runs) */
     double t;             /* the time reached */
     double h_initial;     /* the first step the solver tries */
     int inputs_changed;   /* an importer set a member's input since the last step */
@@ -319,6 +320,37 @@ static int emit_until(me_master *M, double limit, int inclusive, int dense_outpu
     return 0;
 }
 
+/* 1 when the step just taken from `x_start` left every state as it was and every
+   derivative is exactly zero: with autonomous instances, a fixed point (see
+   eng_me_spec.autonomous). 0 when not, -1 on failure. */
+static int at_rest(me_master *M, double t)
+{
+    int i;
+    if (!M->spec->autonomous || M->n_x == 0 || M->next_defined
+        || memcmp(M->x_start, M->x, (size_t)M->n_x * sizeof(double)) != 0)
+        return 0;
+    if (rhs(M, t, M->x, M->fd)) return -1;
+    for (i = 0; i < M->n_x; i++)
+        if (M->fd[i] != 0.0) return 0;
+    return 1;
+}
+
+/* The rows left, all equal to the point (t, x) the system rests at for good. */
+static int rest_rows(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    const size_t width = (size_t)s->n_columns;
+    const double *first;
+    if (M->k_out >= s->n_times) return 0;
+    /* an autonomous instance's outputs do not depend on the time it is given */
+    if (write_row(M, s->times[M->k_out], M->x)) return -1;
+    first = s->out + (size_t)(M->k_out - 1) * width;
+    for (; M->k_out < s->n_times; M->k_out++)
+        memcpy(s->out + (size_t)M->k_out * width, first, width * sizeof(double));
+    M->stats->n_rows = M->k_out;
+    return 0;
+}
+
 static int record_event(me_master *M, int g, double t)
 {
     const eng_event_group *group = &M->spec->event_groups[g];
@@ -555,6 +587,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
         bound = fmin(bound, t + h_max);
+        if (s->autonomous) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
         M->stats->steps++;
@@ -581,6 +614,15 @@ static int advance(me_master *M, double target, eng_progress *progress)
             if (step_event && !M->terminate) {
                 clear_groups(M);
                 if (handle_event(M, t)) return -1;
+            } else if (!M->terminate && target >= s->stop_time) {
+                int rest = at_rest(M, t);
+                if (rest < 0) return -1;
+                if (rest) { /* nothing moves any more: no more steps */
+                    M->stats->at_rest_from = t;
+                    if (rest_rows(M)) return -1;
+                    t = target;
+                    break;
+                }
             }
         }
         M->stats->t_end = t;
@@ -675,6 +717,7 @@ static int allocate(me_master *M)
     M->nominals = zeros(M->n_x);
     M->fd = zeros(M->n_x);
     M->x_before = zeros(M->n_x);
+    M->x_start = zeros(M->n_x);
     M->z_prev = zeros(M->n_z);
     M->z_now = zeros(M->n_z);
     M->z_hit = zeros(M->n_z);
@@ -694,7 +737,8 @@ static int allocate(me_master *M)
         return -1;
     if (plan_couplings(M)) return -1;
     M->row = zeros(width);
-    if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->z_prev || !M->z_now ||
+    if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->x_start
+        || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
     /* both methods, whichever the run starts with: the automatic choice may take either */
@@ -713,6 +757,7 @@ static void release(me_master *M)
     mf_dopri_free(&M->dopri);
     free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->x_before);
+    free(M->x_start);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); free(M->segment_end); free(M->run_end);
@@ -755,6 +800,7 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
 
     memset(stats, 0, sizeof *stats);
     stats->terminated_by = -1;
+    stats->at_rest_from = INFINITY;
     memset(&M, 0, sizeof M);
     M.spec = spec;
     M.stats = stats;
@@ -815,6 +861,7 @@ eng_me *eng_me_create(const eng_me_spec *spec)
     const char *defect;
     if (!m) return NULL;
     m->stats.terminated_by = -1;
+    m->stats.at_rest_from = INFINITY;
     m->M.spec = spec;
     m->M.stats = &m->stats;
     eng_progress_start(&m->progress, NULL, NULL);
