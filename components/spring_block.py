@@ -77,11 +77,18 @@ class SpringBlock(Component):
                 mu = p.mu_k * ca.tanh(3 * s)
             e.residual(f + mu * normal)
             # a smooth law never sticks exactly: the block counts as sliding once |v| passes
-            # eps, where the friction has reached tanh(3) = 99.5 % of its kinetic value, so
-            # that slip and re-stick are located events as with the Coulomb modes
-            e.indicator(v - p.eps, "relative velocity above eps (sliding forward)")
-            e.indicator(v + p.eps, "relative velocity below -eps (sliding backward)")
-            e.jump("mode", ca.if_else(v > p.eps, 1, ca.if_else(v < -p.eps, -1, 0)))
+            # eps, where the friction has reached tanh(3) = 99.5 % of its kinetic value, and
+            # as stuck again once |v| falls below eps / 2, so that slip and re-stick are
+            # located events as with the Coulomb modes. The gap between the two levels is
+            # the hysteresis that keeps an event located at one level (the state a hair
+            # past it, either side) from switching the mode straight back.
+            q = e.q.mode
+            e.indicator(ca.if_else(q == 0, v - p.eps, q * v - p.eps / 2),
+                        "stuck: relative velocity above eps; sliding: |velocity| above eps/2")
+            e.indicator(ca.if_else(q == 0, v + p.eps, 1),
+                        "stuck: relative velocity below -eps (sliding backward)")
+            from_rest = ca.if_else(v > p.eps, 1, ca.if_else(v < -p.eps, -1, 0))
+            e.jump("mode", ca.if_else(q * v >= p.eps / 2, q, from_rest))
         e.output("a", a, "m/s2", "acceleration of the block relative to the support")
         e.output("s", support.s + x, "m", "absolute position of the block")
         e.output("f_friction", f, "N", "friction force on the block")

@@ -154,6 +154,34 @@ def smooth_slip_bracket(m, k, g, mu_k, mu_s, v, eps) -> tuple[float, float]:
     return lower, upper
 
 
+def law_coefficient(law: str, u, mu_k: float, mu_s: float):
+    """The friction coefficient of SpringBlock's smooth laws in u = v / eps: ``smooth``
+    (Eq. 9.5) or ``tanh`` (Eq. 9.7, mu_k tanh(3u), no stiction)."""
+    if law == "smooth":
+        return smooth_friction_coefficient(u, mu_k, mu_s)
+    return mu_k * np.tanh(3 * np.asarray(u, dtype=float))
+
+
+def smooth_mode_slip_bracket(law: str, m, k, g, mu_k, mu_s, v, eps) -> tuple[float, float]:
+    """Bounds on when a block under a smooth law, pulled from rest at speed v, first
+    reports sliding (its mode flips where x' reaches eps, u = 1).
+
+    Before then 0 <= x' < eps, so 0 <= x <= eps t. Lower: crossing upward needs x'' >= 0
+    there, so the pull k (v t - x) <= k v t has reached the friction at u = 1:
+    t >= mu(1) m g / (k v). Upper: the pull is at least k (v - eps) t; friction never
+    exceeds the law's supremum mu_sup m g, so once the pull exceeds that by delta,
+    x'' >= delta / m and eps is reached within m eps / delta more; the best delta gives
+    t <= mu_sup m g / (k (v - eps)) + 2 sqrt(m eps / (k (v - eps))).
+    """
+    if eps >= v:
+        raise ValueError(f"eps = {eps:g} m/s: the bounds need eps < v = {v:g} m/s")
+    mu_one = float(law_coefficient(law, 1.0, mu_k, mu_s))
+    mu_sup = smooth_law_peak(mu_k, mu_s)[1] if law == "smooth" else mu_k
+    lower = mu_one * m * g / (k * v)
+    upper = mu_sup * m * g / (k * (v - eps)) + 2 * math.sqrt(m * eps / (k * (v - eps)))
+    return lower, upper
+
+
 def richardson_bound(coarse: float, fine: float, ratio: float, order: float) -> float:
     """The error at the coarse parameter from a convergence study with parameters in the
     given ratio: |coarse - fine| / (1 - ratio^-order). An upper bound when the error is a
