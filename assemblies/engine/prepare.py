@@ -18,11 +18,11 @@ from pathlib import Path
 
 from fmpy import extract, read_model_description
 
-from components.dae import flatten
 from fmus import build_fmu
 
 from ..assembly import AssemblyError
 from ..foreign import FMU
+from ..masters.extrapolation import derivative_inputs
 
 _lock = threading.Lock()
 _by_key: dict = {}
@@ -46,7 +46,7 @@ class PreparedFmu:
     inputs: list = field(default_factory=list)
     depends: dict = field(default_factory=dict)    # output -> the inputs it depends on
     states: list = field(default_factory=list)
-    chained: set = field(default_factory=set)      # inputs the FMU extrapolates itself
+    chained: dict = field(default_factory=dict)    # input the FMU extrapolates -> its derivative input
 
     @property
     def model_identifier(self) -> str:
@@ -123,7 +123,7 @@ def prepared(component, fmi_version: int = 3) -> PreparedFmu:
     defaults = type(component)(name=component.name, profile=component.profile.name,
                                **component.option_values)
     fmu = prepared_path(str(build_fmu(defaults, fmi_version=fmi_version)))
-    fmu.chained = {v.name for v in flatten(component).inputs if v.derivative_input is not None}
+    fmu.chained = derivative_inputs(component)
     with _lock:
         _by_key[key] = fmu
     return fmu
