@@ -152,13 +152,14 @@ class BuiltFmu:
 
 def model_facts(model) -> dict:
     """What the engine needs of a flat model that the modelDescription does not say:
-    the inputs that come with their derivative as another input (the FMU extrapolates
-    them itself), whether an event indicator is written in terms of time (it can move
+    the inputs that come with their derivative as another input ({input: its derivative
+    input}: the FMU extrapolates them itself), whether an event indicator is written in terms of time (it can move
     while every state stands still), whether the model can end a run, and whether it is
     autonomous: time appears in none of its derivatives, outputs and indicators, so with
     its inputs held it stands still wherever its derivatives are zero."""
     explicit_time = ca.depends_on(ca.vertcat(model.xdot, model.y, model.z), model.t)
-    return {"chained_inputs": [v.name for v in model.inputs if v.derivative_input is not None],
+    return {"chained_inputs": {v.name: model.inputs[v.derivative_input].name
+                               for v in model.inputs if v.derivative_input is not None},
             "indicators_follow_time": bool(model.z.numel()) and bool(ca.depends_on(model.z, model.t)),
             "can_terminate": model.terminate is not None,
             "autonomous": not bool(explicit_time)}

@@ -29,6 +29,7 @@ from ..assembly import Assembly, AssemblyError
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                           fixed_step_fallback, output_times)
 from ..foreign import check_mode
+from ..masters.extrapolation import derivative_couplings, is_held
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
 from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, EngineError,
@@ -56,6 +57,7 @@ _INT = _P(C.c_int)
 class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
     _fields_ = [("n_instances", C.c_int), ("instances", _P(InstanceSpec)),
                 ("n_couplings", C.c_int), ("couplings", _P(Coupling)), ("held", _INT),
+                ("derivative", _INT),
                 ("n_groups", C.c_int), ("group_start", _INT), ("group_members", _INT),
                 ("group_is_loop", _INT), ("sweep_order", _INT),
                 ("n_states", C.c_int), ("states", _P(Variable)),
@@ -87,6 +89,8 @@ class CouplingPlan:
     fmus: dict                 # instance name -> PreparedFmu
     pairs: list                # per coupling: (source, target, gain)
     held: list                 # per coupling: 1 if the FMU holds the input over a step
+    derivative: list           # per coupling: the coupling setting its target's derivative
+                               # input (the FMU extrapolates along that chain), or -1
     groups: list               # coupling indices per dependency group, sources first
     loops: list                # the groups that are algebraic loops
     sweep_order: list          # instance indices, Gauss-Seidel order
@@ -100,12 +104,13 @@ class CouplingPlan:
 def coupling_plan(assembly: Assembly, fmus: dict) -> CouplingPlan:
     couplings = assembly.couplings()
     names = list(assembly.components)
-    plan = CouplingPlan({n: i for i, n in enumerate(names)}, fmus, [], [], [], [], [], [])
+    plan = CouplingPlan({n: i for i, n in enumerate(names)}, fmus, [], [], [], [], [], [], [])
     for c in couplings:
         source, target = plan.variable(*c.source), plan.variable(*c.target)
         plan.pairs.append((source, target, c.gain))
         # an input the FMU extrapolates itself (s with its v and a) is set as it is
-        plan.held.append(int(c.target[1] not in fmus[c.target[0]].chained and not target[2]))
+        plan.held.append(int(is_held(c.target[1], fmus[c.target[0]].chained, target[2])))
+    plan.derivative = derivative_couplings(couplings, {n: fmus[n].chained for n in names})
     depends = {n: fmus[n].depends for n in names}
     inputs = {n: fmus[n].inputs for n in names}
     plan.groups = coupling_groups(couplings, depends, inputs)
@@ -184,6 +189,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     spec.couplings = keep.array(Coupling, [Coupling(Variable(*s), Variable(*t), gain)
                                            for s, t, gain in plan.pairs])
     spec.held = keep.array(C.c_int, plan.held)
+    spec.derivative = keep.array(C.c_int, plan.derivative)
     spec.n_groups = len(groups)
     spec.group_start = keep.array(C.c_int, np.cumsum([0] + [len(g) for g in groups]).tolist())
     spec.group_members = keep.array(C.c_int, [k for g in groups for k in g])

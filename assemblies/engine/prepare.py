@@ -55,7 +55,7 @@ class PreparedFmu:
     depends: dict = field(default_factory=dict)    # output -> the inputs it depends on
     states: list = field(default_factory=list)
     derivatives: list = field(default_factory=list)  # of `states`, in their order
-    chained: set = field(default_factory=set)      # inputs the FMU extrapolates itself
+    chained: dict = field(default_factory=dict)    # input the FMU extrapolates -> its derivative input
     autonomous: bool = False  # ours, with no explicit time (fmus.build.model_facts)
 
     @property
@@ -154,7 +154,7 @@ def _prepared_in_cache(path: Path) -> PreparedFmu:
 def _to_json(p: PreparedFmu) -> dict:
     d = dataclasses.asdict(p)
     d["depends"] = {k: sorted(v) for k, v in p.depends.items()}
-    d["chained"] = sorted(p.chained)
+    d["chained"] = dict(p.chained)
     del d["path"], d["unzip_dir"]  # where the reader finds them
     return d
 
@@ -163,7 +163,7 @@ def _from_json(d: dict, path: str, unzip_dir: str) -> PreparedFmu:
     d = dict(d, path=path, unzip_dir=unzip_dir)
     d["variables"] = {k: tuple(v) for k, v in d["variables"].items()}
     d["depends"] = {k: set(v) for k, v in d["depends"].items()}
-    d["chained"] = set(d["chained"])
+    d["chained"] = dict(d["chained"])
     return PreparedFmu(**d)
 
 
@@ -199,7 +199,7 @@ def prepared(component, fmi_version: int = 3) -> PreparedFmu:
         return hit
     built = fetch_fmu(class_defaults(component), fmi_version=fmi_version)
     fmu = prepared_path(str(built.path))
-    fmu.chained = set(built.facts["chained_inputs"])
+    fmu.chained = dict(built.facts["chained_inputs"])
     fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move
     with _lock:
         _by_key[key] = fmu

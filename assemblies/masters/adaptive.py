@@ -56,17 +56,24 @@ class StepController:
     def allowed(self, h: float) -> float:
         return self.tol * h / self.horizon
 
-    def judge(self, error: float, h: float, noise: float = 0.0) -> tuple[bool, float]:
+    def judge(self, error: float, h: float, noise: float = 0.0, defect: float = 0.0,
+              defect_order: int = 1) -> tuple[bool, float]:
         """(accept?, next step) for a step of `h` with estimated error `error`, of
-        which `noise` (see :meth:`noise`) no step size can remove."""
+        which `noise` (see :meth:`noise`) no step size can remove; `defect`: how far the
+        motion an FMU extrapolated itself strayed from its source's, over its allowance
+        (at most 1), shrinking as h^defect_order."""
         allowed = self.allowed(h) + noise
-        ok = error <= allowed
+        ok = error <= allowed and defect <= 1.0
         if ok:
             self.accepted += 1
-            self.max_ratio = max(self.max_ratio, error / allowed)
+            self.max_ratio = max(self.max_ratio, error / allowed, defect)
         else:
             self.rejected += 1
         factor = 4.0 if error == 0 else min(4.0, max(0.2, 0.9 * (allowed / error) ** (1 / self.order)))
+        # the defect is local (each communication point sets the motion afresh): its
+        # allowance does not grow with h
+        if defect > 0:
+            factor = min(factor, max(0.2, 0.9 * defect ** (-1 / defect_order)))
         if not ok:
             factor = min(factor, 0.9)  # a rejected step must shrink
         elif self.rejected_last:

@@ -41,7 +41,6 @@ from fmpy.logging import addLoggerProxy
 
 import numpy as np
 
-from components.dae import flatten
 from components.errors import MechfmuError
 from fmus import build_fmu
 
@@ -53,7 +52,8 @@ from ..result import Result, Table
 from .adaptive import StepController
 from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
                      locate_start_event, probe_step)
-from .extrapolation import step_mean
+from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, is_held,
+                            step_mean)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
 
@@ -128,7 +128,7 @@ class _Instance:
             # (derivative inputs); a foreign FMU has none of those, and FMI 2's input
             # derivatives (canInterpolateInputs) are not set by this master, so it holds
             # every input constant and the master picks the constant (as in the engine)
-            self.chained = set()
+            self.chained = {}
         else:
             defaults = type(component)(name=name, profile=component.profile.name,
                                        **component.option_values)
@@ -136,8 +136,7 @@ class _Instance:
             md = read_model_description(path)
             # the model description does not say which inputs have a derivative input
             # (s by v, v by a); the flattened component does
-            self.chained = {v.name for v in flatten(component).inputs
-                            if v.derivative_input is not None}
+            self.chained = derivative_inputs(component)
         self.fmi_version = int(md.fmiVersion[0])
         self.variables = {v.name: v for v in md.modelVariables}
         # Int32 (FMI 2: Integer) variables are got and set as such; all else as Float64/Real
@@ -301,9 +300,17 @@ class _Master:
         self.in_loop = {i for g in self.loops for i in g}
         # the inputs the FMU holds constant over a step: the master picks the constant
         self.held = {i for i, c in enumerate(couplings)
-                     if c.target[1] not in instances[c.target[0]].chained
-                     and not instances[c.target[0]].is_int(c.target[1])}
+                     if is_held(c.target[1], instances[c.target[0]].chained,
+                                instances[c.target[0]].is_int(c.target[1]))}
         self.history: dict[int, list[tuple[float, float]]] = {i: [] for i in self.held}
+        # the chains an FMU extrapolates itself (s -> v -> a): how far the motion it
+        # extrapolated strays from its source's by a step's end bounds the adaptive
+        # step (cosim.c chain_defect says why)
+        self.derivative = derivative_couplings(couplings, {n: i.chained
+                                                           for n, i in instances.items()})
+        self.chain_order = [chain_order(self.derivative, k) for k in range(len(couplings))]
+        self.defect_tol = math.inf  # the adaptive tolerance (set by the stepper)
+        self.defect, self.defect_order = 0.0, 1  # the last step's (chain_defect)
         self.terminated = None
         # this step holds the sources' values (no extrapolation): set by event
         # synchronisation when an extrapolated input would fire an event too early
@@ -385,7 +392,33 @@ class _Master:
                 self._do_step(name, t, h)
                 done.add(name)
         if self.terminated is None:
+            predicted = {k: self._chain_end_value(k, h) for k, d in enumerate(self.derivative)
+                         if d >= 0 and math.isfinite(self.defect_tol)}
             self.consistent(t + h)
+            self._chain_defect(predicted)
+
+    def _chain_end_value(self, k: int, h: float) -> float:
+        """Where the target FMU's Taylor chain puts chained input `k` at the end of a
+        step of `h`, from the values set for the step (runtime.c inputs_at)."""
+        value, term, d, order = self._get(*self.couplings[k].target), 1.0, self.derivative[k], 1
+        while d >= 0 and order <= len(self.couplings):
+            term *= h / order
+            order += 1
+            rate = self._get(*self.couplings[d].target)
+            if rate != 0.0:
+                value += rate * term
+            d = self.derivative[d]
+        return value
+
+    def _chain_defect(self, predicted: dict[int, float]) -> None:
+        """The worst chained input's defect at the step's end over its allowance
+        (defect_tol relative to the value), and that chain's order."""
+        self.defect, self.defect_order = 0.0, 1
+        for k, p in predicted.items():
+            u = self._get(*self.couplings[k].target)
+            ratio = abs(u - p) / (self.defect_tol * (1.0 + abs(u)))
+            if ratio > self.defect:
+                self.defect, self.defect_order = ratio, self.chain_order[k]
 
     def state_vector(self) -> np.ndarray:
         return np.array([v for inst in self.instances.values() for v in inst.get(inst.states)])
@@ -527,6 +560,7 @@ class _Stepper:
         # global order of the coupling: 1 with a zero-order hold, 2 with a step-mean
         # extrapolation (see assemblies.extrapolation for why not 3 with quadratic)
         self.ctrl = StepController(tol, 1 if extrapolation == 0 else 2, out_times[-1], step)
+        master.defect_tol = tol
         self.t = 0.0
         self.h = step / 4 if adaptive else step  # the next adaptive step
         self.rows = [sample(0.0)]
@@ -667,6 +701,7 @@ class _Stepper:
         (the halves) or rolled back; (accepted?, the length kept). Sets the next step."""
         m, t, ctrl = self.master, self.t, self.ctrl
         coarse = m.state_vector()
+        defect, defect_order = m.defect, m.defect_order  # the whole step's, as judged
         m.restore(self.snap)
         m.step(t, h_try / 2)
         if m.terminated is None:
@@ -685,7 +720,7 @@ class _Stepper:
             return True, h_try / 2
         fine = m.state_vector()
         ok, self.h = ctrl.judge(ctrl.estimate(coarse, fine), h_try,
-                                ctrl.noise(fine, self.tolerance))
+                                ctrl.noise(fine, self.tolerance), defect, defect_order)
         if ok:
             self.steps += 1
         else:

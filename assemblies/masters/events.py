@@ -78,19 +78,25 @@ def locate_start_event(master: _Master, prev: _Snapshot, h_prev: float, which: s
     # no narrower than the spacing of doubles at t0 allows
     width = max(event_tol, 4e-16 * max(1.0, abs(t0)))
     probe = probe_step(t0)
-    while hi - lo > width:
-        m = 0.5 * (lo + hi)
+    # the trial steps hold the sources' values from t0 (cosim.c locate_start_event says
+    # why: an extrapolated input runs ahead by what grows with the trial's length)
+    held_raw, master.hold_raw = master.hold_raw, True
+    try:
+        while hi - lo > width:
+            m = 0.5 * (lo + hi)
+            master.restore(prev)
+            master.step(t0, m)
+            if master.terminated is not None or which & events_at_start(master):
+                hi = m  # the model ended before m, or the event fires at t0 already
+            elif fires_at_start(master, which, t0 + m, probe):
+                hi = m
+            else:
+                lo = m
+        # the step to the first point known to fire: the next step handles the event there
         master.restore(prev)
-        master.step(t0, m)
-        if master.terminated is not None:  # the model ended before m: the event is earlier
-            hi = m
-        elif fires_at_start(master, which, t0 + m, probe):
-            hi = m
-        else:
-            lo = m
-    # the step to the first point known to fire: the next step handles the event there
-    master.restore(prev)
-    master.step(t0, hi)
+        master.step(t0, hi)
+    finally:
+        master.hold_raw = held_raw
     master.events_located += 1
     return t0 + hi
 

@@ -251,5 +251,7 @@ def test_steps_are_capped_only_where_an_indicator_can_move_while_the_states_stan
     from assemblies.engine.me import step_limit_needed
     from short_slip import short_slip_assembly
     assert not step_limit_needed(scene("coin_rolling").build())  # its own states alone
-    assert step_limit_needed(scene("stick_slip").build())  # the driver's motion moves it
-    assert step_limit_needed(short_slip_assembly())  # the table's shaking moves it
+    # the driver's travel is a state (travel' = v): the margin moves with states the
+    # solver integrates, affinely while the block sticks, so no excursion hides in a step
+    assert not step_limit_needed(scene("stick_slip").build())
+    assert step_limit_needed(short_slip_assembly())  # the table's shaking, written in time

@@ -59,13 +59,14 @@ def test_the_default_cosim_slips_at_the_closed_form_time(belt):
     assert s["engine"] == "fmpy" and s["adaptive"] and s["event_sync"]
     assert s["events_located"] >= 1
     # without the synchronisation the slip lands where an adaptive step happened to end
-    # (measured: 0.64, early, as the extrapolated spring force runs ahead of its source)
+    # (measured: 6e-5 late with the steps the motion chains' bound allows; 0.64, early,
+    # before it), far outside the 1e-6 the synchronised run meets
     sc = scene("two_block_belt")
     late = cosimulate(sc.build(), 1.0, sc.step, sc.tolerance, record=["block1.s"],
                       event_sync=False, **cosim_scheme(None, None))
     ev = late.events[first]
     assert not late.settings["event_sync"] and late.settings["events_located"] == 0
-    assert abs(ev["time"][ev[f"{first}.mode"] != 0][0] - t_slip) > 1e-4
+    assert abs(ev["time"][ev[f"{first}.mode"] != 0][0] - t_slip) > 1e-5
 
 
 def test_the_default_cosim_is_the_engines_step_for_step(belt):

@@ -47,6 +47,9 @@ typedef struct {
     const eng_coupling *couplings;  /* target = gain * source, any order */
     const int *held;                /* per coupling: 1 if the FMU holds the input constant
                                        over a step (no derivative input extrapolates it) */
+    const int *derivative;          /* per coupling: the coupling that sets its target's
+                                       derivative input (the FMU extrapolates the input
+                                       along that chain over a step), or -1 */
     int n_groups;                   /* coupling groups in dependency order (sources first) */
     const int *group_start;         /* n_groups + 1 offsets into group_members */
     const int *group_members;       /* coupling indices */

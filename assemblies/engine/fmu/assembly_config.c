@@ -201,14 +201,17 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     g->n_couplings = n = (int)integer(&r, 0, 1L << 20);
     cfg->couplings = (eng_coupling *)table(&r, (size_t)n, sizeof *cfg->couplings);
     cfg->held = (int *)table(&r, (size_t)n, sizeof(int));
+    cfg->derivative = (int *)table(&r, (size_t)n, sizeof(int));
     g->couplings = cfg->couplings;
     g->held = cfg->held;
+    g->derivative = cfg->derivative;
     for (k = 0; k < n && !r.failed; k++) {
         expect(&r, "coupling");
         variable(&r, &cfg->couplings[k].source, g->n_instances);
         variable(&r, &cfg->couplings[k].target, g->n_instances);
         cfg->couplings[k].gain = number(&r);
         cfg->held[k] = (int)integer(&r, 0, 1);
+        cfg->derivative[k] = (int)integer(&r, -1, n - 1);
     }
 
     expect(&r, "groups");
@@ -288,6 +291,7 @@ void asm_config_free(asm_config *cfg)
     free(cfg->unzip_dirs);
     free(cfg->couplings);
     free(cfg->held);
+    free(cfg->derivative);
     free(cfg->group_start);
     free(cfg->group_members);
     free(cfg->group_is_loop);

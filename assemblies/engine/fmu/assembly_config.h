@@ -46,7 +46,7 @@ typedef struct {
     eng_instance_spec *instances;
     char **unzip_dirs;
     eng_coupling *couplings;
-    int *held, *group_start, *group_members, *group_is_loop, *sweep_order;
+    int *held, *derivative, *group_start, *group_members, *group_is_loop, *sweep_order;
     eng_variable *states;
 } asm_config;
 
