@@ -14,7 +14,8 @@ $(VENV)/.installed: pyproject.toml
 demo: $(VENV)/.installed
 	$(VENV)/bin/mechfmu run stick_slip --out out
 
-# the test suite; pytest's exit code 5 (nothing collected) is a failure, not green
+# the test suite, a file per worker on every core (pytest-xdist: FMU builds and runs are
+# CPU-bound); pytest's exit code 5 (nothing collected) is a failure, not green
 test: $(VENV)/.installed
-	$(PY) -m pytest -q; rc=$$?; \
+	$(PY) -m pytest -q -n auto --dist loadfile; rc=$$?; \
 	if [ $$rc -eq 5 ]; then echo "pytest collected no tests: failing"; exit 1; fi; exit $$rc

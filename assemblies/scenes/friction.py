@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 from components import ConstantSpeed, SpringBlock
+from components.spring_block import SLIDING_AT
 
 from ..assembly import Assembly
 from ..result import Result
@@ -41,8 +42,17 @@ def _stick_slip_figures(result: Result, asm: Assembly) -> list[Figure]:
     # error is left; a smooth law is held to the same closed forms within what it allows
     allowed = (0.0, 0.0, 0.0) if law == "coulomb" else _smooth_law_allowance(law, p, speed)
     what = "" if law == "coulomb" else f" ({law} law, eps = {p['eps']:g}: vs exact Coulomb)"
-    return [Figure("t1", f"first slip time [s]{what}", slip[0], exact[0],
-                   allowed[0] + solver_accuracy(result, exact[0])),
+    first = Figure("t1", f"first slip time [s]{what}", slip[0], exact[0],
+                   allowed[0] + solver_accuracy(result, exact[0]))
+    if law == "tanh":
+        # Eq. 9.7 has no stiction: its limit is Coulomb friction with mu_s = mu_k, whose
+        # slide only touches rest (tangentially) and never sticks again, and the law,
+        # weaker than mu_k near rest, keeps the block moving: no re-stick to compare
+        restuck = sum(1 for t, _, mode in events if mode == 0 and t > slip[0])
+        return [first, Figure("restick", "re-sticks after the first slip (Eq. 9.7 has no "
+                              "stiction: none, unlike Coulomb's t2 = "
+                              f"{exact[1]:.4f} s)", restuck, 0, 0.0)]
+    return [first,
             Figure("t2", f"first re-stick time [s]{what}", stick[0], exact[1],
                    allowed[1] + solver_accuracy(result, exact[1])),
             Figure("x(t2)", f"position at re-stick [m]{what}", stick[1], exact[2],
@@ -56,16 +66,19 @@ def _smooth_law_allowance(law: str, p: dict, speed: float) -> tuple[float, float
     as eps -> 0 the law is Coulomb friction with mu_s replaced by the law's supremum (the
     peak of Eq. 9.5, mu_k for Eq. 9.7): that shift is a closed form; to it come the
     slip's later start (the t1 bracket's width, carried over) and the time the block
-    takes to cross the band |x'| < eps as it stops (eps over its deceleration, or, where
-    it stops tangentially, sqrt(2 eps / v) / omega). An estimate, not a bound."""
+    takes to cross the band where it counts as stuck as it stops. An estimate, not a
+    bound."""
     m, k, g, mu_k, mu_s, eps = (p[n] for n in ("m", "k", "g", "mu_k", "mu_s", "eps"))
     exact = stick_slip_first_cycle(m, k, g, mu_k, mu_s, speed)
     lo, hi = smooth_mode_slip_bracket(law, m, k, g, mu_k, mu_s, speed, eps)
     mu_sup = smooth_law_peak(mu_k, mu_s)[1] if law == "smooth" else mu_k
     limit = stick_slip_first_cycle(m, k, g, mu_k, mu_sup, speed)
     w = math.sqrt(k / m)
-    deceleration = (mu_sup - mu_k) * g  # friction's excess over the pull as the slide ends
-    band = (eps / deceleration if deceleration > 0 else 0.0) + math.sqrt(2 * eps / speed) / w
+    # the block crosses the band |x'| < 1.5 eps as it stops: over its deceleration, the
+    # friction's excess over the pull, or, where it stops tangentially, sqrt(2 c / v) / w
+    c = SLIDING_AT * eps / 2
+    deceleration = (mu_sup - mu_k) * g
+    band = (c / deceleration if deceleration > 0 else 0.0) + math.sqrt(2 * c / speed) / w
     t1 = max(abs(exact[0] - lo), abs(exact[0] - hi))
     t2 = abs(exact[1] - limit[1]) + (hi - lo) + band
     x2 = abs(exact[2] - limit[2]) + speed * ((hi - lo) + band)

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from components.spring_block import SLIDING_AT
+
 from .references import earliest_zero
 
 
@@ -162,23 +164,31 @@ def law_coefficient(law: str, u, mu_k: float, mu_s: float):
     return mu_k * np.tanh(3 * np.asarray(u, dtype=float))
 
 
-def smooth_mode_slip_bracket(law: str, m, k, g, mu_k, mu_s, v, eps) -> tuple[float, float]:
+def smooth_mode_slip_bracket(law: str, m, k, g, mu_k, mu_s, v, eps,
+                             level: float = SLIDING_AT) -> tuple[float, float]:
     """Bounds on when a block under a smooth law, pulled from rest at speed v, first
-    reports sliding (its mode flips where x' reaches eps, u = 1).
+    reports sliding: its mode flips where x' reaches `level` eps (SpringBlock: 3 eps,
+    beyond the stiction peak of Eq. 9.5).
 
-    Before then 0 <= x' < eps, so 0 <= x <= eps t. Lower: crossing upward needs x'' >= 0
-    there, so the pull k (v t - x) <= k v t has reached the friction at u = 1:
-    t >= mu(1) m g / (k v). Upper: the pull is at least k (v - eps) t; friction never
-    exceeds the law's supremum mu_sup m g, so once the pull exceeds that by delta,
-    x'' >= delta / m and eps is reached within m eps / delta more; the best delta gives
-    t <= mu_sup m g / (k (v - eps)) + 2 sqrt(m eps / (k (v - eps))).
+    Before then 0 <= x' < level eps, so 0 <= x <= level eps t, and friction never exceeds
+    the law's supremum mu_sup m g (Eq. 9.5's peak, mu_k for Eq. 9.7). Lower: to pass the
+    peak (Eq. 9.5) the pull k (v t - x) <= k v t must reach mu_max m g (x'' >= 0 there);
+    for Eq. 9.7, crossing `level` upward needs the pull to reach the friction there.
+    Upper: the pull is at least k (v - level eps) t; once it exceeds mu_sup m g by delta,
+    x'' >= delta / m and level eps is reached within m level eps / delta more; the best
+    delta gives t <= mu_sup m g / (k (v - c)) + 2 sqrt(m c / (k (v - c))), c = level eps.
     """
-    if eps >= v:
-        raise ValueError(f"eps = {eps:g} m/s: the bounds need eps < v = {v:g} m/s")
-    mu_one = float(law_coefficient(law, 1.0, mu_k, mu_s))
-    mu_sup = smooth_law_peak(mu_k, mu_s)[1] if law == "smooth" else mu_k
-    lower = mu_one * m * g / (k * v)
-    upper = mu_sup * m * g / (k * (v - eps)) + 2 * math.sqrt(m * eps / (k * (v - eps)))
+    creep = level * eps
+    if creep >= v:
+        raise ValueError(f"eps = {eps:g} m/s: the bounds need {level:g} eps < v = {v:g} m/s")
+    if law == "smooth":
+        mu_sup = smooth_law_peak(mu_k, mu_s)[1]
+        mu_needed = mu_sup
+    else:
+        mu_sup = mu_k
+        mu_needed = float(law_coefficient(law, level, mu_k, mu_s))
+    lower = mu_needed * m * g / (k * v)
+    upper = mu_sup * m * g / (k * (v - creep)) + 2 * math.sqrt(m * creep / (k * (v - creep)))
     return lower, upper
 
 

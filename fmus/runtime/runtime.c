@@ -1149,7 +1149,12 @@ static mf_dopri_result solver_step(mf_instance *I, double t_end, double h_initia
     r = mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h_initial);
     if (r != MF_DOPRI_OK) return r;
     I->dense_implicit = 0;
-    if (automatic && mf_stiffness_after_explicit(&I->stiff, I->solver.h_lambda)) {
+    if (automatic && (mf_stiffness_after_explicit(&I->stiff, I->solver.h_lambda)
+                      || (mf_stiffness_wants_jacobian(&I->stiff)
+                          && jacobian(I, I->t, I->x, I->ros.jac) == 0
+                          && mf_stiffness_explicit_check(&I->stiff, I->solver.h_guess,
+                                                         I->ros.jac, I->x, I->m->n_x,
+                                                         I->rtol)))) {
         mf_ros_restart(&I->ros);
         I->ros.h_guess = I->solver.h_guess;
     }
@@ -1520,7 +1525,7 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
 #define SNAP_MAGIC 0x4d465331u /* "MFS1" */
 enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED,
        S_METHOD, S_HGUESS_ROS, S_STIFF_IMPLICIT, S_STIFF_VOTES, S_STIFF_AGAINST, S_STIFF_SWITCHES,
-       S_DENSE_IMPLICIT, S_HEADER };
+       S_STIFF_CHECK, S_DENSE_IMPLICIT, S_HEADER };
 
 typedef struct {
     unsigned magic;
@@ -1600,6 +1605,7 @@ mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
     d[S_STIFF_VOTES] = I->stiff.votes;
     d[S_STIFF_AGAINST] = I->stiff.against;
     d[S_STIFF_SWITCHES] = (double)I->stiff.switches;
+    d[S_STIFF_CHECK] = (double)I->stiff.explicit_steps;
     d[S_DENSE_IMPLICIT] = I->dense_implicit;
     d += S_HEADER;
     copy_block(d, I->x, m->n_x); d += m->n_x;
@@ -1645,6 +1651,7 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     I->stiff.votes = (int)s->d[S_STIFF_VOTES];
     I->stiff.against = (int)s->d[S_STIFF_AGAINST];
     I->stiff.switches = (long)s->d[S_STIFF_SWITCHES];
+    I->stiff.explicit_steps = (long)s->d[S_STIFF_CHECK];
     I->dense_implicit = s->d[S_DENSE_IMPLICIT] != 0.0;
     invalidate(I);
     return MF_OK;

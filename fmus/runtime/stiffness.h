@@ -8,7 +8,10 @@
  * (|f(x7) - f(x6)| / |x7 - x6|). A step limited by stability rather than by accuracy
  * sits at the edge of the stability region, h |lambda| near 3.2; 15 such steps, not
  * interrupted by 6 others in a row (Hairer's rule), mean stiffness, and the implicit
- * method takes over.
+ * method takes over. Near an equilibrium both of that estimate's differences are
+ * round-off and it can miss a stability-bound DOPRI5 for millions of steps, so every 200
+ * explicit steps the Jacobian is also evaluated: h rho beyond 2 (rho bounded as below)
+ * means stiffness too.
  *
  * Implicit to explicit: after each accepted RODAS3 step, the Jacobian it factored
  * gives a bound on the spectral radius (the infinity norm of D^-1 J D, D the error
@@ -28,6 +31,7 @@ typedef struct {
     int votes;      /* steps that spoke for the other method */
     int against;    /* consecutive steps since that spoke against it */
     long switches;  /* how often the method changed, for the run's report */
+    long explicit_steps; /* accepted since the last periodic check */
 } mf_stiffness;
 
 void mf_stiffness_reset(mf_stiffness *s, int start_implicit);
@@ -35,6 +39,18 @@ void mf_stiffness_reset(mf_stiffness *s, int start_implicit);
 /* After an accepted explicit step with stiffness estimate h_lambda (mf_dopri's
    h_lambda): 1 when the implicit method takes the next step. */
 int mf_stiffness_after_explicit(mf_stiffness *s, double h_lambda);
+
+/* Every EXPLICIT_CHECK_EVERY accepted explicit steps: 1 when the caller should also
+   evaluate the Jacobian at the new point and call mf_stiffness_explicit_check, which
+   catches what Hairer's estimate misses near an equilibrium (there both of its
+   differences are round-off, and a stability-bound DOPRI5 can take millions of steps
+   unnoticed). */
+int mf_stiffness_wants_jacobian(mf_stiffness *s);
+
+/* With the Jacobian at the current point and the step DOPRI5 proposes next: 1 when h
+   rho exceeds DOPRI5's stability interval, and the implicit method takes over. */
+int mf_stiffness_explicit_check(mf_stiffness *s, double h, const double *jac, const double *x,
+                                int n, double rtol);
 
 /* After an accepted implicit step of size h, whose Jacobian at its start was `jac`
    (column-major n x n) and whose start point was x: 1 when the explicit method takes

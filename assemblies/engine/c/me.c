@@ -236,6 +236,15 @@ static void restart(me_master *M)
     mf_ros_restart(&M->ros);
 }
 
+/* The Jacobian at the point an explicit step reached, into the implicit solver's
+   matrix (the periodic stiffness check): the forward differences need f there, which
+   DOPRI5 holds as the next step's first stage. */
+static int explicit_jacobian(me_master *M, double t)
+{
+    memcpy(M->ros.f0, M->dopri.k[0], (size_t)M->n_x * sizeof(double));
+    return jacobian(M, t, M->x, M->ros.jac);
+}
+
 /* One accepted step from (*t, x) towards t_end; 0 on success. */
 static int step(me_master *M, double *t, double t_end, double h_initial)
 {
@@ -261,7 +270,12 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
         r = mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
         if (r == MF_DOPRI_OK) {
             M->dense_implicit = 0;
-            if (automatic && mf_stiffness_after_explicit(&M->stiff, M->dopri.h_lambda)) {
+            if (automatic && (mf_stiffness_after_explicit(&M->stiff, M->dopri.h_lambda)
+                              || (mf_stiffness_wants_jacobian(&M->stiff)
+                                  && explicit_jacobian(M, *t) == 0
+                                  && mf_stiffness_explicit_check(&M->stiff, M->dopri.h_guess,
+                                                                 M->ros.jac, M->x, M->n_x,
+                                                                 M->spec->tolerance)))) {
                 mf_ros_restart(&M->ros);
                 M->ros.h_guess = M->dopri.h_guess;
             }
