@@ -9,6 +9,7 @@ import argparse
 import json
 import math
 import platform
+import re
 import sys
 import time
 from pathlib import Path
@@ -90,6 +91,40 @@ def main(argv=None) -> int:
     print(table(records))
     print(f"wrote {HERE / 'RESULTS.md'}, {HERE / 'results.json'} and {len(plots)} plots")
     return 0
+
+
+def kept_sections(path) -> list[str]:
+    """The sections other benchmark commands wrote into RESULTS.md (a heading ending in
+    "(issue N)", e.g. `python -m benchmarks.beam_scaling`), kept as they are: this run
+    does not measure them, and must not drop them."""
+    if not path.exists():
+        return []
+    kept, keep = [], False
+    for line in path.read_text().splitlines():
+        if line.startswith("## "):
+            keep = re.search(r"\(issue \d+\)\s*$", line) is not None
+        if keep:
+            kept.append(line)
+    return kept
+
+
+def replace_section(path, lines: list[str]) -> None:
+    """Write a section (`lines`, its heading first) into RESULTS.md in place of the one
+    with the same heading, or before the closing "Known weaknesses" section."""
+    text = path.read_text().splitlines() if path.exists() else []
+    heading, out, i = lines[0], [], 0
+    while i < len(text) and text[i] != heading:
+        i += 1
+    if i < len(text):  # replace: up to the next heading
+        j = i + 1
+        while j < len(text) and not text[j].startswith("## "):
+            j += 1
+        out = text[:i] + lines + text[j:]
+    else:
+        k = next((n for n, line in enumerate(text) if line.startswith("## Known weaknesses")),
+                 len(text))
+        out = text[:k] + lines + text[k:]
+    path.write_text("\n".join(out) + "\n")
 
 
 def report(records, meta, calls, builds, plots, args, elapsed) -> str:
@@ -268,6 +303,7 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
                        f"{_ms(r['wall_s'])} | {r['rhs_evals'] if r['rhs_evals'] is not None else '-'} | "
                        f"{r['steps'] if r['steps'] is not None else '-'} |")
         out.append("")
+    out += kept_sections(HERE / "RESULTS.md")
     out += ["## Known weaknesses of this suite", "",
             "- `coin_rolling`'s reference is the joined CasADi model at rtol 1e-13, so its "
             "errors are not independent of our equations; the hand-written numpy coin "
