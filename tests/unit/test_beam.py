@@ -188,6 +188,12 @@ def test_release_from_static_shape_follows_later_changes():
     ({"zeta": -0.1}, ["zeta", ">= 0"]), ({"n_modes": 0}, ["n_modes", "from 1 to 128"]),
     ({"n_modes": 2.5}, ["n_modes", "from 1 to 128"]), ({"basis": "chebyshev"}, ["poly2, sine"]),
     ({"w_tip0": "far"}, ["w_tip0", "not a number"]), ({"a7": 1.0}, ["unknown name 'a7'", "w_tip0"]),
+    # the modal formulation's own settings
+    ({"n_modes": "auto"}, ["n_modes = 'auto'", "coordinates = 'modal'"]),
+    ({"coordinates": "modal", "accuracy": 2.0}, ["accuracy", "between 0 and 1"]),
+    ({"coordinates": "eigen"}, ["coordinates", "assumed, modal"]),
+    ({"n_modes": 129}, ["n_modes", "from 1 to 128 or 'auto'"]),
+    ({"coordinates": "modal", "a2_dot": "fast"}, ["a2_dot", "not a number"]),
 ])
 def test_bad_values_give_one_line_errors(values, words):
     with pytest.raises(ComponentError) as err:

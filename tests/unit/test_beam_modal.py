@@ -8,7 +8,7 @@ from fmpy import simulate_fmu
 from scipy.integrate import solve_ivp
 from scipy.linalg import eigh
 
-from components import ComponentError, flatten
+from components import flatten
 from components.beam import AssumedModesBeam
 from fmus import build_fmu
 from fmus.codegen import directional_jacobian
@@ -113,19 +113,3 @@ def test_release_from_static_shape_starts_at_rest_with_the_tip_deflection():
     # at rest in the static shape under F = 3 EI w0 / L³ (K a = φ F): strain energy w0 F / 2
     force = 0.05 / beam.static_tip_deflection(1.0)
     assert out["E"] == pytest.approx(0.05 * force / 2, rel=1e-12)
-
-
-@pytest.mark.parametrize("values, words", [
-    ({"n_modes": "auto"}, ["n_modes = 'auto'", "coordinates = 'modal'"]),
-    ({"coordinates": "modal", "accuracy": 2.0}, ["accuracy", "between 0 and 1"]),
-    ({"coordinates": "eigen"}, ["coordinates", "assumed, modal"]),
-    ({"n_modes": 129}, ["n_modes", "from 1 to 128 or 'auto'"]),
-    ({"coordinates": "modal", "a2_dot": "fast"}, ["a2_dot", "not a number"]),
-])
-def test_bad_values_give_one_line_errors(values, words):
-    with pytest.raises(ComponentError) as err:
-        AssumedModesBeam(name="beam", **values)
-    text = str(err.value)
-    assert "AssumedModesBeam 'beam'" in text and "\n" not in text
-    for word in words:
-        assert word in text
