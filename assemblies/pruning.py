@@ -16,9 +16,10 @@ from __future__ import annotations
 from components.component import Component
 
 from .assembly import Assembly
-from .engine.prepare import binary_key, class_defaults
+from .engine.prepare import binary_key, class_defaults, structure_key
 
 _ends_run: dict = {}  # binary_key -> can end the run (a fact of class, profile and options)
+_decisions: dict = {}  # structure, record -> the instances to keep (None: all of them)
 
 
 def influences(assembly: Assembly) -> dict[str, set[str]]:
@@ -70,11 +71,23 @@ def prune_unrecorded(assembly: Assembly, record: list[str] | None) -> tuple[Asse
     """(the assembly to run, the instances left out). The assembly itself when nothing
     can be left out; else one of the same instances (the same objects, values included)
     and the connections among them. Every kept instance keeps the causality profile it
-    has in the whole assembly, or nothing is left out."""
-    keep = needed_instances(assembly, record)
-    if len(keep) == len(assembly.components):
+    has in the whole assembly, or nothing is left out.
+
+    The decision depends on the structure alone (classes, profiles, options, connections,
+    what is recorded), so it is made once per structure: a parameter study or a repeated
+    run pays only for assembling the kept instances."""
+    key = (structure_key(assembly), None if record is None else tuple(record),
+           assembly.signals_from_outside)
+    if key not in _decisions:
+        _decisions[key] = _decide(assembly, record)
+    keep = _decisions[key]
+    if keep is None:
         return assembly, []
-    profiles = assembly.resolve_causality()
+    kept = set(keep)
+    return _assemble(assembly, keep), [n for n in assembly.components if n not in kept]
+
+
+def _assemble(assembly: Assembly, keep: list[str]) -> Assembly:
     pruned = Assembly(assembly.name)
     pruned.signals_from_outside = assembly.signals_from_outside
     for name in keep:
@@ -82,7 +95,18 @@ def prune_unrecorded(assembly: Assembly, record: list[str] | None) -> tuple[Asse
     kept = set(keep)
     pruned.connections = [c for c in assembly.connections
                           if c.a.partition(".")[0] in kept and c.b.partition(".")[0] in kept]
-    if any(profiles[n] != p for n, p in pruned.resolve_causality().items()):
-        assembly.resolve_causality()  # the kept instances' profiles as the whole has them
-        return assembly, []
-    return pruned, [n for n in assembly.components if n not in kept]
+    return pruned
+
+
+def _decide(assembly: Assembly, record: list[str] | None) -> list[str] | None:
+    """The instances to keep, or None where nothing may be left out."""
+    keep = needed_instances(assembly, record)
+    if len(keep) == len(assembly.components):
+        return None
+    profiles = assembly.resolve_causality()
+    if any(profiles[n] != p for n, p in _assemble(assembly, keep).resolve_causality().items()):
+        # a kept instance would take another profile without the others; the instances
+        # are shared, so they get back the profiles the whole assembly gives them
+        assembly.resolve_causality()
+        return None
+    return keep

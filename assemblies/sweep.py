@@ -375,7 +375,10 @@ def _on_dask(client, sc, runs, settings, outputs, measure, chunk, report):
     size = chunk or max(1, math.ceil(len(runs) / (n_workers * TASKS_PER_WORKER)))
     indexed = list(enumerate(runs))
     chunks = [indexed[i:i + size] for i in range(0, len(indexed), size)]
-    [scene_future] = client.scatter([sc], broadcast=True)  # once per worker, not per task
+    # once per worker, not per task; under a key of its own (hash=False): the same scene
+    # scattered by the study before has the same content hash, and that study's future,
+    # released meanwhile, would take the data away from this one ("Could not find data")
+    [scene_future] = client.scatter([sc], broadcast=True, hash=False)
     futures = {client.submit(run_chunk, scene_future, c, settings, outputs, measure,
                              pure=False): c for c in chunks}
     rows = []

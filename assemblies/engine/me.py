@@ -30,8 +30,8 @@ from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
-from .prepare import (assembly_recipe, binary_key, class_defaults, prepared, prepared_composite,
-                      record_columns)
+from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
+                      record_columns, structure_key)
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
@@ -155,12 +155,6 @@ def _engine():
     return lib
 
 
-def _structure_key(assembly: Assembly) -> tuple:
-    return (assembly.name,
-            tuple((n, *binary_key(c)) for n, c in assembly.components.items()),
-            tuple((c.a, c.b) for c in assembly.connections))
-
-
 def indicators_follow_time(component) -> bool:
     """Is one of the component's event indicators written in terms of time? Then it can
     move while every state stands still. (A fact of its class, profile and options,
@@ -249,7 +243,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         plan.capped = step_limit_needed(assembly)
         return plan
 
-    key = ("me", _structure_key(assembly), None if record is None else tuple(record), fmi_version)
+    key = ("me", structure_key(assembly), None if record is None else tuple(record), fmi_version)
     plan = _plan(key, build)
     _engine()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
@@ -312,7 +306,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
         plan.capped = joined.indicators_follow_time
         return plan
 
-    key = ("monolithic", _structure_key(assembly), None if record is None else tuple(record))
+    key = ("monolithic", structure_key(assembly), None if record is None else tuple(record))
     plan = _plan(key, build)
     _engine()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)

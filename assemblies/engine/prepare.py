@@ -180,6 +180,14 @@ def binary_key(component) -> tuple:
     return (type(component), component.profile.name, options_key(component))
 
 
+def structure_key(assembly) -> tuple:
+    """What an assembly's runs share whatever their values: its name, each instance's
+    binary_key and the connections (a key to memoise what depends on structure only)."""
+    return (assembly.name,
+            tuple((n, *binary_key(c)) for n, c in assembly.components.items()),
+            tuple((c.a, c.b) for c in assembly.connections))
+
+
 def class_defaults(component):
     """A component of `component`'s class, profile and options with the class's default
     values: what its FMU is built from (values and starts are set per run)."""

@@ -10,12 +10,11 @@
  * interrupted by 6 others in a row (Hairer's rule), mean stiffness, and the implicit
  * method takes over. Near an equilibrium both of that estimate's differences are
  * round-off and it can miss a stability-bound DOPRI5 for millions of steps, so every 200
- * explicit steps the Jacobian is also evaluated: h rho beyond 2 (rho bounded as below)
- * means stiffness too.
+ * explicit steps the Jacobian is also evaluated: h rho beyond 2 (rho as below) means
+ * stiffness too.
  *
  * Implicit to explicit: after each accepted RODAS3 step, the Jacobian it factored
- * gives a bound on the spectral radius (the infinity norm of D^-1 J D, D the error
- * weights, as LSODA weighs it). Where h rho stays inside DOPRI5's stability region
+ * gives the spectral radius rho (by power iteration). Where h rho stays inside DOPRI5's stability region
  * with a margin for 6 steps in a row, the explicit method could take the
  * steps accuracy asks for, and takes over again (it is the cheaper per step, and of
  * higher order).
@@ -49,13 +48,10 @@ int mf_stiffness_wants_jacobian(mf_stiffness *s);
 
 /* With the Jacobian at the current point and the step DOPRI5 proposes next: 1 when h
    rho exceeds DOPRI5's stability interval, and the implicit method takes over. */
-int mf_stiffness_explicit_check(mf_stiffness *s, double h, const double *jac, const double *x,
-                                int n, double rtol);
+int mf_stiffness_explicit_check(mf_stiffness *s, double h, const double *jac, int n);
 
 /* After an accepted implicit step of size h, whose Jacobian at its start was `jac`
-   (column-major n x n) and whose start point was x: 1 when the explicit method takes
-   the next step. */
-int mf_stiffness_after_implicit(mf_stiffness *s, double h, const double *jac, const double *x,
-                                int n, double rtol);
+   (column-major n x n): 1 when the explicit method takes the next step. */
+int mf_stiffness_after_implicit(mf_stiffness *s, double h, const double *jac, int n);
 
 #endif

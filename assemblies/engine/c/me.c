@@ -259,7 +259,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
         if (r == MF_ROS_OK) {
             M->dense_implicit = 1;
             if (automatic && mf_stiffness_after_implicit(&M->stiff, *t - t0, M->ros.jac,
-                                                         M->ros.dx0, M->n_x, M->spec->tolerance)) {
+                                                         M->n_x)) {
                 mf_dopri_restart(&M->dopri);
                 M->dopri.h_guess = M->ros.h_guess;
             }
@@ -274,8 +274,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
                               || (mf_stiffness_wants_jacobian(&M->stiff)
                                   && explicit_jacobian(M, *t) == 0
                                   && mf_stiffness_explicit_check(&M->stiff, M->dopri.h_guess,
-                                                                 M->ros.jac, M->x, M->n_x,
-                                                                 M->spec->tolerance)))) {
+                                                                 M->ros.jac, M->n_x)))) {
                 mf_ros_restart(&M->ros);
                 M->ros.h_guess = M->dopri.h_guess;
             }
