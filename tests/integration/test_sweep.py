@@ -100,6 +100,12 @@ def test_the_resonance_threshold_is_4_mu_over_pi(scheduler):
     after = scheduler.run(worker_state)
     assert sum(a["runs"] - before[w]["runs"] for w, a in after.items()) == 5
     assert all(a["fmus_loaded"] <= len(distinct) for a in after.values())
+    # the same study again on the same client: the scene it scatters has the same content,
+    # and must not be taken away with the first study's (all runs failed, once)
+    again = sweep("resonance_below", {"drive_locked.U": "0.6:1.0:5"}, scheduler=scheduler,
+                  progress=False)
+    assert list(again["status"]) == ["ok"] * 5
+    assert list(again["rate_locked"]) == list(table["rate_locked"])
 
 
 def test_the_coin_stays_upright_above_the_critical_speed(scheduler):
