@@ -189,8 +189,12 @@ def _cmd_bench(args) -> int:
     # and from an installed mechfmu alike
     out = _output_folder(args.out, "--out")
     json_path = _output_file(args.json, "--json", ".json") if args.json else None
-    from benchmarks.scenes import GROUPS, SCENES, expand
-    from benchmarks.suite import plot, run, table, write_json
+    try:
+        from benchmarks.scenes import GROUPS, SCENES, expand
+        from benchmarks.suite import plot, run, table, write_json
+    except ModuleNotFoundError as exc:  # an install older than the benchmarks package
+        raise UsageError(f"bench needs mechfmu's benchmarks package ({exc}); reinstall "
+                         "mechfmu (pip install -e . in a checkout)") from None
     if args.scene in SCENE_NAMES and args.scene not in SCENES:
         raise UsageError(f"scene '{args.scene}' has no work-precision case; bench takes "
                          f"{', '.join([*SCENES, *GROUPS])}")
