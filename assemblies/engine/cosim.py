@@ -68,7 +68,8 @@ class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
                 ("tol", C.c_double), ("loop_tolerance", C.c_double),
                 ("max_loop_iterations", C.c_int), ("newton", C.c_int), ("event_sync", C.c_int),
                 ("event_tol", C.c_double), ("progress", PROGRESS_FN),
-                ("progress_ctx", C.c_void_p), ("derivatives", _P(Variable))]
+                ("progress_ctx", C.c_void_p), ("derivatives", _P(Variable)),
+                ("rest_group", _INT), ("asleep_since", _P(C.c_double))]
 
 
 class _CosimStats(C.Structure):  # cosim.h: eng_cosim_stats
@@ -197,11 +198,16 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     spec.sweep_order = keep.array(C.c_int, plan.sweep_order)
     spec.n_states = len(plan.states)
     spec.states = keep.array(Variable, [Variable(*v) for v in plan.states])
-    if plan.states and all(fmus[n].autonomous for n in names):
-        # every instance ours and without explicit time: where all derivatives are zero
-        # the assembly stands still for good, and the engine stops stepping (cosim.h)
+    groups_at_rest = rest_groups(names, couplings, fmus)
+    if any(g >= 0 for g in groups_at_rest):
+        # a group of instances coupled only to one another, all ours and without explicit
+        # time, stands still for good where all its derivatives are zero: the engine stops
+        # stepping it, and stops altogether when every instance rests (cosim.h)
         spec.derivatives = keep.array(Variable, [Variable(*plan.variable(n, d)) for n in names
                                                  for d in fmus[n].derivatives])
+        spec.rest_group = keep.array(C.c_int, groups_at_rest)
+    asleep = np.full(len(names), np.inf)
+    spec.asleep_since = keep.numpy(asleep, C.c_double)
     columns = record_columns(fmus, record)
     spec.n_columns, spec.columns = len(columns), keep.array(Variable, [var(i, v) for i, v in columns])
 
@@ -252,7 +258,8 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                 "loop_iterations": cstats.loop_iterations, "loop_residual": cstats.loop_residual,
                 "events_synchronised": cstats.events_synchronised,
                 "events_located": cstats.events_located, "fallback": fallback,
-                "at_rest_from": None if math.isinf(cstats.at_rest_from) else cstats.at_rest_from}
+                "at_rest_from": None if math.isinf(cstats.at_rest_from) else cstats.at_rest_from,
+                "asleep": {n: float(t) for n, t in zip(names, asleep) if math.isfinite(t)}}
     if stats.status == STOPPED:
         settings["stopped"] = f"at t = {out[-1, 0]:g}" + (
             " by Ctrl-C" if progress_cb.interrupted else " by the progress callback")
@@ -260,6 +267,27 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         settings.update(tol=tol, h_min=cstats.h_min, h_max=cstats.h_max,
                         error_ratio_max=cstats.error_ratio_max)
     return Result({name: out[:, j] for j, name in enumerate(header)}, events, settings)
+
+
+def rest_groups(names: list[str], couplings, fmus: dict) -> list[int]:
+    """Per instance, its group: the instances joined to it by couplings (either way);
+    -1 for a group that can never be seen to rest (a member with explicit time, one we
+    did not make, or one whose derivatives are not listed with its states)."""
+    group = {n: n for n in names}
+
+    def root(n):
+        while group[n] != n:
+            n = group[n]
+        return n
+
+    for c in couplings:
+        group[root(c.source[0])] = root(c.target[0])
+    able = {n: fmus[n].autonomous and len(fmus[n].derivatives) == len(fmus[n].states)
+            for n in names}
+    roots = [root(n) for n in names]
+    restless = {r for r, n in zip(roots, names) if not able[n]}
+    index = {r: i for i, r in enumerate(dict.fromkeys(roots))}
+    return [-1 if r in restless else index[r] for r in roots]
 
 
 def _failure(stats, cstats, couplings, groups, newton, max_iterations) -> str:

@@ -69,3 +69,37 @@ def test_a_model_written_in_time_never_rests():
     result = simulate_me(short_slip_assembly(), 4 * math.pi, SHORT_SLIP_STEP, 1e-10)
     assert result.settings["at_rest_from"] is None
     assert result.settings["steps"] > 10
+
+
+def _stick_slip_beside(rest_block: dict | None):
+    """stick_slip, and beside it (coupled to nothing of it) a block held by a wall."""
+    asm = scene("stick_slip").build()
+    if rest_block is not None:
+        from components import ConstantSpeed, SpringBlock
+        asm.add("wall", ConstantSpeed(v=0.0))
+        asm.add("held", SpringBlock(m=1, k=1, g=1, mu_k=0.6, mu_s=0.6, **rest_block))
+        asm.connect("wall.flange", "held.flange_a")
+    return asm
+
+
+def test_a_decoupled_group_at_rest_sleeps_while_the_rest_moves():
+    """Beside stick_slip, a block held by static friction from the start (x = 0.3 inside
+    the band |x| <= mu m g / k = 0.6) rests for good: it sleeps at the first step, so
+    the run costs what stick_slip alone costs plus that step, and stick_slip's columns
+    are those of its run alone (a resting group adds nothing to the error control)."""
+    from assemblies.engine.cosim import cosimulate
+    sc = scene("stick_slip")
+    record = ["block.x", "block.v", "block.mode", "held.x", "held.v"]
+    alone = cosimulate(_stick_slip_beside(None), sc.stop_time, sc.step, sc.tolerance,
+                       record=record[:3])
+    both = cosimulate(_stick_slip_beside({"x": 0.3}), sc.stop_time, sc.step, sc.tolerance,
+                      record=record)
+    assert set(both.settings["asleep"]) == {"wall", "held"}
+    assert max(both.settings["asleep"].values()) <= sc.step  # at its first step
+    assert both.settings["at_rest_from"] is None  # stick_slip never rests
+    for column in record[:3]:
+        assert np.array_equal(np.asarray(both[column]), np.asarray(alone[column])), column
+    assert np.all(np.asarray(both["held.x"]) == 0.3) and np.all(np.asarray(both["held.v"]) == 0)
+    # stepped once or twice before it slept: 2 FMUs x a few doSteps, not twice the run's
+    assert both.settings["do_steps"] - alone.settings["do_steps"] <= 24, (
+        both.settings["do_steps"], alone.settings["do_steps"])

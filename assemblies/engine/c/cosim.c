@@ -60,6 +60,8 @@ struct cosim {
     int *hist_n;
     int *in_loop;
     int *done;                /* Gauss–Seidel: instances stepped in this sweep */
+    double *asleep_since;     /* per instance: when its group fell asleep; INFINITY: awake */
+    int *moving;              /* per instance, while groups are checked: a derivative is not 0 */
     int *which;               /* instances whose event is being located */
     int hold_raw;             /* this step holds the sources' values (no extrapolation) */
     int rejected_last;        /* the step controller's last step was rejected */
@@ -397,6 +399,7 @@ static int do_step(cosim *c, int i, double t, double h)
 {
     instance *in = &c->inst[i];
     fmu_step_result r;
+    if (c->asleep_since[i] <= t) return 0; /* its group stands still for good */
     memset(&r, 0, sizeof r);
     c->stats->do_steps++;
     in->step_start = t;
@@ -524,8 +527,11 @@ static int restore(cosim *c, const snapshot *s)
 {
     const eng_cosim_spec *g = c->cfg;
     int i, k, n = g->n_couplings;
-    for (i = 0; i < g->n_instances; i++)
+    for (i = 0; i < g->n_instances; i++) {
+        /* back to before a group fell asleep: it moves again from there */
+        if (c->asleep_since[i] > s->t) c->asleep_since[i] = INFINITY;
         if (restore_instance(c, s, i)) return -1;
+    }
     memcpy(c->hist_t, s->hist_t, (size_t)n * HISTORY * sizeof(double));
     memcpy(c->hist_v, s->hist_v, (size_t)n * HISTORY * sizeof(double));
     memcpy(c->hist_n, s->hist_n, (size_t)n * sizeof(int));
@@ -675,6 +681,10 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->hist_n = (int *)calloc((size_t)n_c, sizeof(int));
     c->in_loop = (int *)calloc((size_t)n_c, sizeof(int));
     c->done = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->moving = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->asleep_since = (double *)calloc((size_t)g->n_instances + 1, sizeof(double));
+    if (c->asleep_since)
+        for (i = 0; i < g->n_instances; i++) c->asleep_since[i] = INFINITY;
     c->which = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
     c->state = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
     c->coarse = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
@@ -683,8 +693,8 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->scratch = (double *)calloc((size_t)n_c * (size_t)(n_c + 3), sizeof(double));
     c->row = (double *)calloc((size_t)width_max, sizeof(double));
     if (!c->run || !c->inst || !c->fmus || !c->u || !c->hist_t || !c->hist_v || !c->hist_n
-        || !c->in_loop || !c->done || !c->which || !c->state || !c->coarse || !c->scratch || !c->row
-        || !c->predicted || !c->chain_order)
+        || !c->in_loop || !c->done || !c->moving || !c->asleep_since || !c->which || !c->state
+        || !c->coarse || !c->scratch || !c->row || !c->predicted || !c->chain_order)
         return fail(c, "out of memory");
     for (k = 0; k < g->n_couplings; k++) {
         int d = g->derivative[k];
@@ -917,20 +927,31 @@ static int one_step(cosim *c, double target)
     return 0;
 }
 
-/* 1 when every state's derivative is exactly zero (see eng_cosim_spec.derivatives),
-   0 when one is not, -1 on failure. */
-static int at_rest(cosim *c)
+/* Puts to sleep each group of instances (eng_cosim_spec.rest_group) whose state
+   derivatives are all exactly zero now. 1 when every instance sleeps (the whole
+   assembly rests), 0 when not, -1 on failure. */
+static int fall_asleep(cosim *c)
 {
     const eng_cosim_spec *g = c->cfg;
-    int j;
+    int i, j, all = 1;
+    for (i = 0; i < g->n_instances; i++) c->moving[i] = 0;
     for (j = 0; j < g->n_states; j++) {
         const eng_variable *v = &g->derivatives[j];
         double d;
+        if (c->asleep_since[v->instance] < INFINITY || g->rest_group[v->instance] < 0) continue;
         if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &d))
             return fmu_fail(c, v->instance, "get of a state derivative", c->t);
-        if (d != 0.0) return 0;
+        if (d != 0.0) c->moving[v->instance] = 1;
     }
-    return 1;
+    for (i = 0; i < g->n_instances; i++) { /* a group sleeps when none of it moves */
+        int group = g->rest_group[i], k, still = group >= 0;
+        if (c->asleep_since[i] < INFINITY) continue;
+        for (k = 0; k < g->n_instances && still; k++)
+            if (g->rest_group[k] == group && c->moving[k]) still = 0;
+        if (still) c->asleep_since[i] = c->t;
+        else all = 0;
+    }
+    return all;
 }
 
 /* The run after initialisation: steps, rows at the output times. */
@@ -969,8 +990,8 @@ static int run(cosim *c, eng_progress *progress)
         if (moved) { /* rows sampled after the event's new time are sampled again */
             while (k > 0 && out_times[k - 1] > c->t + 1e-12 * fmax(1.0, fabs(c->t))) k--;
             c->run_stats->n_rows = k + 1;
-        } else if (g->derivatives && !c->terminated) {
-            int rest = at_rest(c);
+        } else if (g->derivatives && g->rest_group && !c->terminated) {
+            int rest = fall_asleep(c);
             if (rest < 0) return -1;
             if (rest) { /* nothing moves any more: every remaining row is this point */
                 double *first = g->out + (size_t)(k + 1) * (size_t)width;
@@ -1006,6 +1027,8 @@ static void destroy(cosim *c)
     free(c->hist_n);
     free(c->in_loop);
     free(c->done);
+    free(c->moving);
+    free(c->asleep_since);
     free(c->which);
     free(c->state);
     free(c->coarse);
@@ -1046,6 +1069,8 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
         snprintf(stats->message, sizeof stats->message, "%s", fmu_message(c.fmus[c.terminated_instance]));
     }
     if (cosim_stats->h_max == 0.0) cosim_stats->h_min = NAN, cosim_stats->h_max = NAN;
+    if (spec->asleep_since && c.asleep_since)
+        memcpy(spec->asleep_since, c.asleep_since, (size_t)spec->n_instances * sizeof(double));
     destroy(&c);
     return c.run;
 }

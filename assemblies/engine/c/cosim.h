@@ -81,6 +81,14 @@ typedef struct {
        point of the coupled system, which stays there: the remaining rows repeat it and
        no more steps are taken. NULL: never (an instance may move with time). */
     const eng_variable *derivatives;
+    /* Sleep: each instance's group of instances coupled to one another (-1: it never
+       sleeps, not autonomous or without derivatives). A group whose derivatives are all
+       exactly zero at a communication point stands still for good, whatever the rest
+       of the assembly does, since nothing reaches it: its FMUs are not stepped again
+       (their outputs keep their values). NULL: no group sleeps. */
+    const int *rest_group;
+    double *asleep_since;           /* out, n_instances (or NULL): when each fell asleep;
+                                       INFINITY: never */
 } eng_cosim_spec;
 
 typedef struct {
