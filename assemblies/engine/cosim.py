@@ -36,7 +36,7 @@ from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, Engine
                       InstanceSpec, Keep, Progress, Stats, Variable, declare, instance_spec,
                       run_events)
 from .build import library
-from .prepare import prepared, record_columns
+from .prepare import prepared, record_columns, rest_groups
 
 EVENT_TOL = 1e-10  # width of the final bracket when an event is moved back [s]
 
@@ -267,27 +267,6 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         settings.update(tol=tol, h_min=cstats.h_min, h_max=cstats.h_max,
                         error_ratio_max=cstats.error_ratio_max)
     return Result({name: out[:, j] for j, name in enumerate(header)}, events, settings)
-
-
-def rest_groups(names: list[str], couplings, fmus: dict) -> list[int]:
-    """Per instance, its group: the instances joined to it by couplings (either way);
-    -1 for a group that can never be seen to rest (a member with explicit time, one we
-    did not make, or one whose derivatives are not listed with its states)."""
-    group = {n: n for n in names}
-
-    def root(n):
-        while group[n] != n:
-            n = group[n]
-        return n
-
-    for c in couplings:
-        group[root(c.source[0])] = root(c.target[0])
-    able = {n: fmus[n].autonomous and len(fmus[n].derivatives) == len(fmus[n].states)
-            for n in names}
-    roots = [root(n) for n in names]
-    restless = {r for r, n in zip(roots, names) if not able[n]}
-    index = {r: i for i, r in enumerate(dict.fromkeys(roots))}
-    return [-1 if r in restless else index[r] for r in roots]
 
 
 def _failure(stats, cstats, couplings, groups, newton, max_iterations) -> str:

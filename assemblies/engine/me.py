@@ -31,7 +31,7 @@ from ..result import Result, Table
 from . import binding as B
 from .build import library
 from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
-                      record_columns, structure_key)
+                      record_columns, rest_groups, structure_key)
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
@@ -53,6 +53,7 @@ class _Plan:
         indicator, count, outputs)."""
         self.lock = threading.Lock()  # a plan's start values are one run's at a time
         self.capped = True  # steps no longer than the output interval (step_limit_needed)
+        self.rest_group = None  # eng_me_spec.rest_group (prepare.rest_groups); None: no rest
         self.keep = keep = B.Keep()
         self.names = [n for n, _, _ in instances]
         self.fmus = [f for _, f, _ in instances]
@@ -99,6 +100,10 @@ class _Plan:
             f_values[:len(floats)] = [values[k] for k in floats]
             i_values[:len(ints)] = [int(values[k]) for k in ints]
 
+    def set_rest_groups(self, groups: list[int]) -> None:
+        if any(g >= 0 for g in groups):
+            self.rest_group = self.keep.array(C.c_int, groups)
+
     def run(self, name, stop_time, step, tolerance, method, progress, event_subsamples,
             scheme) -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
@@ -107,12 +112,13 @@ class _Plan:
         out = np.empty((len(times), len(self.column_names)))  # the C writes rows [0, n_rows)
         prog = B.Progress(progress)
         dp = C.POINTER(C.c_double)
+        asleep = np.full(len(self.names), np.inf)
         spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
                         len(self.column_names), self.columns, len(self.groups),
                         self.group_array, len(times), times.ctypes.data_as(dp),
                         out.ctypes.data_as(dp), stop_time, tolerance, METHODS[method],
                         event_subsamples, step if self.capped else 0.0, prog.callback, None,
-                        int(all(f.autonomous for f in self.fmus)))
+                        self.rest_group, asleep.ctypes.data_as(dp))
         stats = B.Stats()
         started = wallclock.perf_counter()
         with prog.sigint():
@@ -138,6 +144,7 @@ class _Plan:
             "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
             "method_switches": stats.method_switches,
             "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
+            "asleep": {n: float(t) for n, t in zip(self.names, asleep) if math.isfinite(t)},
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
             "terminated": None if stats.status != B.TERMINATED else
             {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
@@ -241,6 +248,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
         plan = _Plan(keys, coupling_order(couplings, fmus), columns, groups)
         plan.capped = step_limit_needed(assembly)
+        plan.set_rest_groups(rest_groups(names, couplings, fmus))
         return plan
 
     key = ("me", structure_key(assembly), None if record is None else tuple(record), fmi_version)
@@ -302,6 +310,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
         keys = [f"{name}.{k}" for name, c in assembly.components.items()
                 for k in [*c.values, *c.starts]]
         plan = _Plan([("assembly", fmu, keys)], [], columns, groups)
+        plan.set_rest_groups(rest_groups(["assembly"], [], {"assembly": fmu}))
         plan.members = members
         plan.capped = joined.indicators_follow_time
         return plan

@@ -188,6 +188,27 @@ def structure_key(assembly) -> tuple:
             tuple((c.a, c.b) for c in assembly.connections))
 
 
+def rest_groups(names: list[str], couplings, fmus: dict) -> list[int]:
+    """Per instance, its group: the instances joined to it by couplings (either way);
+    -1 for a group that can never be seen to rest (a member with explicit time, one we
+    did not make, or one whose derivatives are not listed with its states)."""
+    group = {n: n for n in names}
+
+    def root(n):
+        while group[n] != n:
+            n = group[n]
+        return n
+
+    for c in couplings:
+        group[root(c.source[0])] = root(c.target[0])
+    able = {n: fmus[n].autonomous and len(fmus[n].derivatives) == len(fmus[n].states)
+            for n in names}
+    roots = [root(n) for n in names]
+    restless = {r for r, n in zip(roots, names) if not able[n]}
+    index = {r: i for i, r in enumerate(dict.fromkeys(roots))}
+    return [-1 if r in restless else index[r] for r in roots]
+
+
 def class_defaults(component):
     """A component of `component`'s class, profile and options with the class's default
     values: what its FMU is built from (values and starts are set per run)."""

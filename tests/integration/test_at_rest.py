@@ -103,3 +103,18 @@ def test_a_decoupled_group_at_rest_sleeps_while_the_rest_moves():
     # stepped once or twice before it slept: 2 FMUs x a few doSteps, not twice the run's
     assert both.settings["do_steps"] - alone.settings["do_steps"] <= 24, (
         both.settings["do_steps"], alone.settings["do_steps"])
+
+
+def test_a_decoupled_group_at_rest_sleeps_under_one_integrator_too():
+    """me: the held block's group falls asleep at the first step (no more evaluations of
+    its FMUs, its derivatives zero), stick_slip runs on and passes its figures."""
+    from assemblies.engine.me import simulate_me
+    from assemblies.scenes.friction import _stick_slip_figures
+    sc = scene("stick_slip")
+    asm = _stick_slip_beside({"x": 0.3})
+    result = simulate_me(asm, sc.stop_time, sc.step, sc.tolerance,
+                         record=["block.x", "block.v", "block.mode", "held.x", "held.v"])
+    assert set(result.settings["asleep"]) == {"wall", "held"}
+    assert result.settings["at_rest_from"] is None
+    assert np.all(np.asarray(result["held.x"]) == 0.3)
+    assert all(f.passed for f in _stick_slip_figures(result, asm))

@@ -107,11 +107,15 @@ typedef struct {
     double max_step;               /* the longest step; 0: no limit */
     eng_progress_fn progress;      /* may be NULL */
     void *progress_ctx;
-    /* every instance autonomous (no explicit time in its derivatives, outputs and
-       indicators) and no time events: a step that leaves the states as they were, with
-       every derivative exactly zero there, is a fixed point the system keeps, and the
-       remaining rows repeat it with no more steps */
-    int autonomous;
+    /* Rest: each instance's group of instances coupled to one another, -1 where it can
+       never be seen to rest (explicit time in its derivatives, outputs or indicators).
+       A step that leaves a group's states as they were, with each of their derivatives
+       exactly zero, shows a fixed point the group keeps whatever the others do: it
+       sleeps (its instances are no longer evaluated, their derivatives are zero), and
+       once every instance sleeps the remaining rows repeat the point with no more
+       steps. NULL: nothing rests. */
+    const int *rest_group;
+    double *asleep_since;          /* out, n_instances (or NULL): when each fell asleep */
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

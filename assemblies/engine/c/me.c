@@ -62,7 +62,8 @@ typedef struct {
     double t_next;
     int terminate;        /* an instance asked to end the run */
     double *x_before;     /* the states before an event's jumps */
-    double *x_start;      /* the states at the start of the step (autonomous runs) */
+    double *x_start;      /* the states at the start of the step (runs that may rest) */
+    int *asleep;          /* per instance: its group rests for good (eng_me_spec.rest_group) */
     double t;             /* the time reached */
     double h_initial;     /* the first step the solver tries */
     int inputs_changed;   /* an importer set a member's input since the last step */
@@ -155,6 +156,7 @@ static int set_point(me_master *M, double t, const double *x)
     M->set_valid = 0;
     for (i = 0; i < M->n; i++) {
         int nx = M->x_off[i + 1] - M->x_off[i];
+        if (M->asleep[i]) continue; /* it stands where it fell asleep, for good */
         if (fmu_set_time(M->fmus[i], t)) return failed(M, i, "setting the time", t);
         if (nx && fmu_set_continuous_states(M->fmus[i], x + M->x_off[i], (size_t)nx))
             return failed(M, i, "setting the continuous states", t);
@@ -172,11 +174,17 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
     int i;
     M->stats->rhs_calls++;
     if (set_point(M, t, x)) return -1;
-    for (i = 0; i < M->n; i++)
+    for (i = 0; i < M->n; i++) {
+        int j;
+        if (M->asleep[i]) {
+            for (j = M->x_off[i]; j < M->x_off[i + 1]; j++) dx[j] = 0.0;
+            continue;
+        }
         if (M->x_off[i + 1] > M->x_off[i] &&
             fmu_get_derivatives(M->fmus[i], dx + M->x_off[i],
                                 (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the state derivatives", t);
+    }
     return 0;
 }
 
@@ -333,19 +341,46 @@ static int emit_until(me_master *M, double limit, int inclusive, int dense_outpu
     return 0;
 }
 
-/* 1 when the step just taken from `x_start` left every state as it was and every
-   derivative is exactly zero: with autonomous instances, a fixed point (see
-   eng_me_spec.autonomous). 0 when not, -1 on failure. */
-static int at_rest(me_master *M, double t)
+/* Whether instance i's states are as the step found them (and, with `f`, their
+   derivatives exactly zero). */
+static int still(const me_master *M, int i, const double *f)
+{
+    int j;
+    for (j = M->x_off[i]; j < M->x_off[i + 1]; j++)
+        if (M->x_start[j] != M->x[j] || (f && f[j] != 0.0)) return 0;
+    return 1;
+}
+
+static int group_still(const me_master *M, int group, const double *f)
 {
     int i;
-    if (!M->spec->autonomous || M->n_x == 0 || M->next_defined
-        || memcmp(M->x_start, M->x, (size_t)M->n_x * sizeof(double)) != 0)
-        return 0;
-    if (rhs(M, t, M->x, M->fd)) return -1;
-    for (i = 0; i < M->n_x; i++)
-        if (M->fd[i] != 0.0) return 0;
+    for (i = 0; i < M->n; i++)
+        if (M->spec->rest_group[i] == group && !M->asleep[i] && !still(M, i, f)) return 0;
     return 1;
+}
+
+/* After a step without events from `x_start`: puts to sleep each group whose states the
+   step left as they were with every derivative exactly zero (eng_me_spec.rest_group).
+   1 when every instance sleeps, 0 when not, -1 on failure. The derivatives are only
+   evaluated where some group's states stood still. */
+static int fall_asleep(me_master *M, double t)
+{
+    const int *group = M->spec->rest_group;
+    int i, all = 1, candidate = 0;
+    if (!group || M->n_x == 0 || M->next_defined) return 0;
+    for (i = 0; i < M->n && !candidate; i++)
+        candidate = !M->asleep[i] && group[i] >= 0 && group_still(M, group[i], NULL);
+    if (!candidate) return 0;
+    if (rhs(M, t, M->x, M->fd)) return -1;
+    for (i = 0; i < M->n; i++) {
+        if (!M->asleep[i] && group[i] >= 0 && group_still(M, group[i], M->fd)) {
+            M->asleep[i] = 1;
+            if (M->spec->asleep_since) M->spec->asleep_since[i] = t;
+        }
+        all = all && M->asleep[i];
+    }
+    if (!all) M->set_valid = 0; /* the sleepers are skipped from now on */
+    return all;
 }
 
 /* The rows left, all equal to the point (t, x) the system rests at for good. */
@@ -600,7 +635,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
         bound = fmin(bound, t + h_max);
-        if (s->autonomous) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
+        if (s->rest_group) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
         M->stats->steps++;
@@ -628,7 +663,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
                 clear_groups(M);
                 if (handle_event(M, t)) return -1;
             } else if (!M->terminate && target >= s->stop_time) {
-                int rest = at_rest(M, t);
+                int rest = fall_asleep(M, t);
                 if (rest < 0) return -1;
                 if (rest) { /* nothing moves any more: no more steps */
                     M->stats->at_rest_from = t;
@@ -731,6 +766,7 @@ static int allocate(me_master *M)
     M->fd = zeros(M->n_x);
     M->x_before = zeros(M->n_x);
     M->x_start = zeros(M->n_x);
+    M->asleep = calloc((size_t)M->n + 1, sizeof(int));
     M->z_prev = zeros(M->n_z);
     M->z_now = zeros(M->n_z);
     M->z_hit = zeros(M->n_z);
@@ -751,7 +787,7 @@ static int allocate(me_master *M)
     if (plan_couplings(M)) return -1;
     M->row = zeros(width);
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->x_start
-        || !M->z_prev || !M->z_now ||
+        || !M->asleep || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
     /* both methods, whichever the run starts with: the automatic choice may take either */
@@ -770,7 +806,7 @@ static void release(me_master *M)
     mf_dopri_free(&M->dopri);
     free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->x_before);
-    free(M->x_start);
+    free(M->x_start); free(M->asleep);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); free(M->segment_end); free(M->run_end);
