@@ -192,3 +192,17 @@ def test_solver_is_a_fixed_parameter_with_three_values(version):
         assert b"RODAS3" in messages[-1]
     fmu.terminate()
     fmu.freeInstance()
+
+
+def test_the_solver_setting_reaches_a_scene_and_its_settings():
+    """--param block.solver=...: a name or a number, checked, set on the FMU, reported."""
+    from assemblies.run import run_scene_full
+    from components import ComponentError
+    for given, reported in ((None, "auto"), ("implicit", "RODAS3"), (0, "DOPRI5")):
+        params = {} if given is None else {"block.solver": given}
+        run = run_scene_full("stick_slip", params=params)
+        assert run.result.settings["solver"]["block"] == reported
+        assert all(f.passed for f in run.figures)
+    with pytest.raises(ComponentError, match=r"solver = 'fast' is not allowed; solver must "
+                                             r"be 0 \(DOPRI5, explicit\), 1 \(RODAS3"):
+        run_scene_full("stick_slip", params={"block.solver": "fast"})
