@@ -15,9 +15,9 @@ static const int STIFF_VOTES = 15;
 static const int NONSTIFF_PATIENCE = 6;
 /* the periodic check: one Jacobian per this many explicit steps, a cost of well under
    1 % where the check finds nothing; it calls the model stiff where DOPRI5's proposed
-   step times the bound on rho exceeds 2: a step accuracy bounds is far shorter (h rho
-   of order tol^(1/5)), and a stability-bound one was measured at 2.84 near a smooth
-   law's equilibrium, where Hairer's estimate said 1.1 */
+   step times rho exceeds 2: a step accuracy bounds is far shorter (h rho of order
+   tol^(1/5)), and a stability-bound one measured 2.84 (with a norm bound of rho) near
+   a smooth law's equilibrium, where Hairer's estimate said 1.1 */
 static const long EXPLICIT_CHECK_EVERY = 200;
 static const double STIFF_H_RHO = 2.0;
 static const int SPECTRAL_ROUNDS = 8; /* of J applied twice */
