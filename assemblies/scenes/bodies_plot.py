@@ -29,6 +29,17 @@ def _snapshots(n: int) -> np.ndarray:
     return np.linspace(0, n - 1, SNAPSHOTS).astype(int)
 
 
+def _against_closed_form(graph, t, measured, label: str, closed_form, form_label: str,
+                         ylabel: str) -> None:
+    """The right-hand panel: a measured curve over time, its closed form dashed on it."""
+    graph.plot(t, measured, lw=2.5, label=label)
+    graph.plot(t, closed_form, "k--", lw=1, label=form_label)
+    graph.set_xlabel("time [s]")
+    graph.set_ylabel(ylabel)
+    graph.grid(alpha=0.3)
+    graph.legend(fontsize=8, loc="upper right")
+
+
 def _reference(result: Result, name: str) -> float:
     """The reference of the run's figure `name`: a picture draws the closed form its
     figures were held to, so it follows any --param (a run sets figures before pictures)."""
@@ -104,13 +115,9 @@ def plot_shell(result: Result, title: str, path: str | Path, instance: str = "sh
     side.set_xlabel("x [m]")
     side.set_ylabel("y [m]")
     side.legend(fontsize=8, loc="upper right")
-    graph.plot(t, phi, lw=2.5, label="φ(t) measured")
-    graph.plot(t, phi[0] * np.cos(_reference(result, "omega0") * t), "k--", lw=1,
-               label="the seed's linearisation")
-    graph.set_xlabel("time [s]")
-    graph.set_ylabel("tilt φ [rad]")
-    graph.grid(alpha=0.3)
-    graph.legend(fontsize=8, loc="upper right")
+    _against_closed_form(graph, t, phi, "φ(t) measured",
+                         phi[0] * np.cos(_reference(result, "omega0") * t),
+                         "the seed's linearisation", "tilt φ [rad]")
     _save(fig, title, path)
 
 
@@ -139,13 +146,9 @@ def plot_rod(result: Result, title: str, path: str | Path, instance: str = "rod"
     side.set_xlabel("x [m]")
     side.legend(fontsize=8, loc="upper right")
     v0 = result[f"{instance}.v"][0]
-    graph.plot(t, x, lw=2.5, label="x(t) measured")
-    graph.plot(t, x[0] * np.cos(w * t) + v0 / w * np.sin(w * t), "k--", lw=1,
-               label="x0 cos(ωt) + (v0/ω) sin(ωt), ω² = 2gμ/D")
-    graph.set_xlabel("time [s]")
-    graph.set_ylabel("rod centre x [m]")
-    graph.grid(alpha=0.3)
-    graph.legend(fontsize=8, loc="upper right")
+    _against_closed_form(graph, t, x, "x(t) measured",
+                         x[0] * np.cos(w * t) + v0 / w * np.sin(w * t),
+                         "x0 cos(ωt) + (v0/ω) sin(ωt), ω² = 2gμ/D", "rod centre x [m]")
     _save(fig, title, path)
 
 
