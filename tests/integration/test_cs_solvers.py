@@ -14,14 +14,13 @@ import re
 import casadi as ca
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description, simulate_fmu
+from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave
-from fmpy.fmi3 import FMU3Slave
 
 from components import SpringBlock
 from components.dae import flatten
 from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference, exact_friction_damping
+from cs_slave import initialize, open_slave
 from fmus import build_fmu
 
 VERSIONS = (2, 3)
@@ -32,21 +31,9 @@ STEEP = dict(m=1, k=1, g=1, mu_k=0.3, mu_s=0.4, friction="tanh", eps=1e-6)
 
 
 def _open(component, version, log=None):
-    path = build_fmu(component, fmi_version=version)
-    md = read_model_description(str(path))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    cls = FMU2Slave if version == 2 else FMU3Slave
-    fmu = cls(guid=md.guid, unzipDirectory=extract(str(path)),
-              modelIdentifier=md.coSimulation.modelIdentifier, instanceName="block")
-    if version == 2:
-        # FMI 2's logger is variadic, and fmpy's formatting proxy forwards to one logger
-        # per process (registering ours would take it from other test modules), so FMI 2
-        # runs keep fmpy's default logger: the work counts come from the FMI 3 runs
-        fmu.instantiate()
-    else:
-        fmu.instantiate(loggingOn=True,
-                        logMessage=lambda env, status, category, message: log and log(message))
-        fmu.setDebugLogging(True, ["logSolver"])
+    fmu, vr = open_slave(component, version, log)
+    if version == 3:
+        fmu.setDebugLogging(True, ["logSolver"])  # the work counts (WORK) come from these
     return fmu, vr
 
 
@@ -67,12 +54,7 @@ def _run(component, version, solver, tol, stop, step, inputs):
     starts = {**component.values, **component.starts, **inputs}
     names = [k for k in starts if k in vr]
     set_float([vr[k] for k in names], [float(starts[k]) for k in names])
-    if version == 2:
-        fmu.setupExperiment(tolerance=tol, startTime=0.0)
-        fmu.enterInitializationMode()
-    else:
-        fmu.enterInitializationMode(tolerance=tol, startTime=0.0)
-    fmu.exitInitializationMode()
+    initialize(fmu, version, tol)
     for i in range(round(stop / step)):
         fmu.doStep(i * step, step)
     x, v = get_float([vr["x"], vr["v"]])

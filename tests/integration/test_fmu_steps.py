@@ -10,38 +10,22 @@ unchanged and v = a h to rounding.
 import math
 
 import pytest
-from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave
-from fmpy.fmi3 import FMU3Slave
 
 from components import RollingCoin, SpringBlock
-from fmus import build_fmu
+from cs_slave import initialize, open_slave
 
 BLOCK = dict(m=2.0, k=1.0, g=9.81, mu_k=0.3, mu_s=0.4, x=10.0)
 
 
 def _slave(component, version, messages, starts=None, tolerance=1e-8):
-    path = str(build_fmu(component, fmi_version=version))
-    md = read_model_description(path)
-    cls = FMU2Slave if version == 2 else FMU3Slave
-    fmu = cls(guid=md.guid, unzipDirectory=extract(path),
-              modelIdentifier=md.coSimulation.modelIdentifier, instanceName="steps")
-    if version == 2:
-        fmu.instantiate()  # fmpy's FMI 2 logger prints; the messages are checked in FMI 3
-    else:
-        fmu.instantiate(logMessage=lambda env, status, cat, msg: messages.append(msg.decode()))
-    vrs = {v.name: v.valueReference for v in md.modelVariables}
+    fmu, vrs = open_slave(component, version, lambda message: messages.append(message.decode()),
+                          instance_name="steps")
     set_f = fmu.setReal if version == 2 else fmu.setFloat64
     set_i = fmu.setInteger if version == 2 else fmu.setInt32
     for name, value in (starts or {}).items():
         (set_i if isinstance(value, int) else set_f)([vrs[name]], [value])
-    if version == 2:
-        fmu.setupExperiment(tolerance=tolerance, startTime=0.0)
-        fmu.enterInitializationMode()
-    else:
-        fmu.enterInitializationMode(tolerance=tolerance, startTime=0.0)
-    fmu.exitInitializationMode()
+    initialize(fmu, version, tolerance)
     get_f = fmu.getReal if version == 2 else fmu.getFloat64
     return fmu, vrs, get_f
 
