@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from . import COMPONENTS
-from .component import Block
+from .component import SOLVER_CHOICES, Block, Component
 from .interfaces import Domain
 
 
@@ -39,6 +39,8 @@ def sheet(cls: type[Block]) -> str:
         lines.append("options (--param NAME=VALUE, fixed when the FMU is built):")
         for o in cls.options:
             lines.append(f"  {o.name} = {o.default} ({o.allowed()}): {o.description}")
+    if issubclass(cls, Component):
+        lines.append(f"solver (--param solver=VALUE, the FMU's own): {SOLVER_CHOICES}")
     if cls.states:
         lines.append("states (start values: --param NAME=VALUE):")
         width = max(len(s.name) for s in cls.states)
