@@ -135,6 +135,8 @@ class Block:
 #: the values of every FMU's runtime setting ``solver``, by the names a user may write
 SOLVERS = {"0": 0, "explicit": 0, "dopri5": 0, "1": 1, "implicit": 1, "rodas3": 1,
            "2": 2, "auto": 2}
+#: each value's method, as the engine names it
+SOLVER_METHODS = {0: "DOPRI5", 1: "RODAS3", 2: "auto"}
 SOLVER_CHOICES = ("0 (DOPRI5, explicit), 1 (RODAS3, implicit) or 2 (auto: switches between "
                   "them on stiffness, the default)")
 

@@ -25,7 +25,7 @@ from typing import Callable
 
 import numpy as np
 
-from components.component import Component
+from components.component import SOLVER_METHODS, Component
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
@@ -39,8 +39,6 @@ from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, Engine
                       run_events)
 from .build import library
 from .prepare import prepared, record_columns, rest_groups
-
-SOLVER_NAMES = {None: "auto", 2: "auto", 0: "DOPRI5", 1: "RODAS3"}  # an FMU's `solver` setting
 
 EVENT_TOL = 1e-10  # width of the final bracket when an event is moved back [s]
 
@@ -266,8 +264,8 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                 "asleep": {n: float(t) for n, t in zip(names, asleep) if math.isfinite(t)},
                 # each of our FMUs' own solver; "auto" switches inside the FMU (its
                 # logSolver messages say which method each doStep ended with)
-                "solver": {n: SOLVER_NAMES[getattr(assembly.components[n], "solver", None)]
-                           for n in names if isinstance(assembly.components[n], Component)}}
+                "solver": {n: SOLVER_METHODS[2 if c.solver is None else c.solver]
+                           for n, c in assembly.components.items() if isinstance(c, Component)}}
     if stats.status == STOPPED:
         settings["stopped"] = f"at t = {out[-1, 0]:g}" + (
             " by Ctrl-C" if progress_cb.interrupted else " by the progress callback")

@@ -18,7 +18,7 @@ from typing import Callable
 import casadi as ca
 import numpy as np
 
-from components.component import Component
+from components.component import SOLVER_METHODS, Component
 from components.interfaces import ComponentError
 from components.dae import flatten
 from fmus.build import component_facts, recipes
@@ -35,8 +35,7 @@ from .prepare import (assembly_recipe, class_defaults, prepared, prepared_compos
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
-METHODS = {"DOPRI5": 0, "RODAS3": 1, "auto": 2}
-_BY_SOLVER_SETTING = {0: "DOPRI5", 1: "RODAS3", 2: "auto"}
+METHODS = {name: value for value, name in SOLVER_METHODS.items()}  # the C's ENG_* values
 EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
 
 
@@ -218,7 +217,7 @@ def integrator(assembly: Assembly, method: str | None) -> str:
     asked = {getattr(c, "solver", None) for c in assembly.components.values()} - {None}
     if 1 in asked:
         return "RODAS3"
-    return _BY_SOLVER_SETTING[asked.pop()] if len(asked) == 1 else "auto"
+    return SOLVER_METHODS[asked.pop()] if len(asked) == 1 else "auto"
 
 
 def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-8,
