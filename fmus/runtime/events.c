@@ -2,6 +2,7 @@
  * Event location inside one accepted step (see events.h).
  */
 #include "events.h"
+#include "solver.h" /* MF_MIN_STEP: the steps the solvers take as a line */
 
 #include <math.h>
 #include <string.h>
@@ -139,6 +140,20 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
     int k, i, first_cross = -1;
 
     if (n <= 0) return 0;
+    if (tb - ta < MF_MIN_STEP(tb)) {
+        /* A sliver (an event a rounding error before a communication point): the solvers
+           take it as one Euler step, a line, and its interior times round to its ends,
+           so samples there are a step function whose polynomial oscillates and "finds"
+           a crossing at ta again and again. On a line the signs at the ends tell all. */
+        for (i = 0; i < n; i++) {
+            if (z_ref[i] == 0.0) z_ref[i] = z_b[i];
+            else if (mf_crossed(z_ref[i], z_b[i])) first_cross = i;
+        }
+        if (first_cross < 0) return 0;
+        *t_event = tb;
+        memcpy(z_event, z_b, (size_t)n * sizeof(double));
+        return 1;
+    }
     for (k = 0; k < m; k++) {
         double *zk = samples + (size_t)k * n;
         theta[k] = (double)(k + 1) / m;

@@ -44,6 +44,9 @@ int mf_crossed(double before, double after);
  * from there on. So a slip that starts at an event and ends inside the next step
  * is found too. Otherwise z_ref is not changed.
  *
+ * A step shorter than MF_MIN_STEP(tb) is a line to both solvers (one Euler step): only
+ * the signs at its ends are compared, and a crossing is put at tb.
+ *
  * Returns 1 with *t_event the right end of the final bracket (the far side of the
  * crossing, so the model sees the new side) and z_event[n] the indicators there;
  * 0 when nothing crossed (t_event, z_event untouched); -1 when an indicator could

@@ -91,3 +91,36 @@ def test_a_tolerance_double_precision_cannot_honour_is_refused_with_the_range(to
     with pytest.raises(FMICallException):
         _slave(SpringBlock(), 3, messages, tolerance=tolerance)
     assert "outside the allowed range [1e-14, 1]" in messages[-1], messages[-1]
+
+
+@pytest.mark.parametrize("version", [2, 3])
+@pytest.mark.parametrize("solver", [0, 1], ids=["DOPRI5", "RODAS3"])
+def test_a_slip_a_rounding_error_before_the_step_end_is_taken_and_the_step_ends(version,
+                                                                                 solver):
+    """Seed 9.2 (m = k = g = 1, spring end at 0.1 t): the block breaks away at
+    t1 = mu_s / 0.1. With mu_s = 0.45 - 1 ulp, t1 falls 1 ulp short of the communication
+    point 4.5, leaving a step of one ulp after the event; that sliver once stalled the
+    step ("advanced 0 s") in a sweep of the stick-slip map."""
+    mu_s, speed = 0.44999999999999996, 0.1
+    fmu, vrs, get_f = _slave(SpringBlock(m=1.0, k=1.0, g=1.0, mu_k=0.3, mu_s=mu_s), version,
+                             [], {"solver": solver}, tolerance=1e-10)
+    set_f = fmu.setReal if version == 2 else fmu.setFloat64
+    get_i = fmu.getInteger if version == 2 else fmu.getInt32
+    end = [vrs["flange_a.s"], vrs["flange_a.v"], vrs["flange_a.a"]]
+    try:
+        set_f(end, [0.0, speed, 0.0])
+        fmu.doStep(0.0, 4.4000000000000004)
+        assert get_i([vrs["mode"]])[0] == 0  # still stuck
+        set_f(end, [0.4400000000000001, speed, 0.0])
+        fmu.doStep(4.4, 0.09999999999999964)
+        assert get_i([vrs["mode"]])[0] == 1  # sliding forward from t1 on
+        # sliding from rest at t1: x = (k v t1 - mu_k g)(1 - cos dt) + v (dt - sin dt)
+        # (m = k = 1, dt = t - t1), the seed's closed form of the first slide
+        t1 = mu_s / speed
+        fmu.doStep(4.5, 1.0)
+        dt = 5.5 - t1
+        exact = (speed * t1 - 0.3) * (1 - math.cos(dt)) + speed * (dt - math.sin(dt))
+        assert get_f([vrs["x"]])[0] == pytest.approx(exact, abs=1e-7)
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()
