@@ -45,7 +45,7 @@ from .masters.cosim import SimulationError
 from .scenes import Scene, scene
 
 REDUCTIONS = ("end", "max", "min", "absmax")
-TASKS_PER_WORKER = 4  # chunks per worker: a bar that moves, and workers that finish together
+SMALLEST_SHARE = 16  # the smallest task holds a 16th of one worker's share of the runs
 
 
 class SweepError(AssemblyError):
@@ -308,7 +308,8 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     `measure(result, values) -> {column: number}`, a module-level function, reads any
     other number. `workers`: processes of a local cluster (default one per core; 0 runs
     in this process, without Dask); `scheduler`: a running scheduler's address, or a
-    ``distributed.Client``. `progress`: a bar over runs on a terminal (a line every few
+    ``distributed.Client``; `chunk`: runs per Dask task (default guided, long tasks first,
+    :func:`chunk_sizes`). `progress`: a bar over runs on a terminal (a line every few
     seconds in a log), or a callable given the number of runs done. With `out`, writes
     the table, its JSON and a plot of `plot` columns there (:func:`write_sweep`).
 
@@ -364,6 +365,24 @@ def _progress(progress, total: int):
     return ProgressReport(total, name="runs", unit="")
 
 
+def chunk_sizes(n_runs: int, n_workers: int, chunk: int | None = None) -> list[int]:
+    """How many runs each task takes, in the order the tasks go out (`chunk`: all alike).
+
+    Guided, as OpenMP schedules loops: each task takes half a worker's fair share of the
+    runs still left, down to a 16th of a worker's share. The first tasks are long, so
+    Dask's cost per task (a few ms, as much as a run) is paid rarely; the last are short, so
+    the workers finish within a few runs of each other although runs differ in cost (a
+    study of equal chunks lost 10-15 % of two workers' time waiting for the last chunk)."""
+    if chunk:
+        return [chunk] * (n_runs // chunk) + ([n_runs % chunk] if n_runs % chunk else [])
+    smallest = max(1, n_runs // (n_workers * SMALLEST_SHARE))
+    sizes, left = [], n_runs
+    while left > 0:
+        sizes.append(min(left, max(smallest, math.ceil(left / (2 * n_workers)))))
+        left -= sizes[-1]
+    return sizes
+
+
 def _on_dask(client, sc, runs, settings, outputs, measure, chunk, report):
     from distributed import as_completed
     try:
@@ -372,9 +391,10 @@ def _on_dask(client, sc, runs, settings, outputs, measure, chunk, report):
         raise SweepError(f"the Dask scheduler at {client.scheduler.address} has no worker "
                          "after 30 s") from None
     n_workers = len(client.scheduler_info()["workers"])
-    size = chunk or max(1, math.ceil(len(runs) / (n_workers * TASKS_PER_WORKER)))
-    indexed = list(enumerate(runs))
-    chunks = [indexed[i:i + size] for i in range(0, len(indexed), size)]
+    indexed, chunks = list(enumerate(runs)), []
+    for size in chunk_sizes(len(runs), n_workers, chunk):
+        chunks.append(indexed[:size])
+        indexed = indexed[size:]
     # once per worker, not per task; under a key of its own (hash=False): the same scene
     # scattered by the study before has the same content hash, and that study's future,
     # released meanwhile, would take the data away from this one ("Could not find data")

@@ -9,10 +9,15 @@ a grid over the driver's speed and the static friction) run
       the block's spring end, on the same SpringBlock FMU, on the same cluster;
   (d) the same bag calling ``fmpy.simulate_fmu`` once per run (what most users write).
 
+and, beside them, (e) the machine's ceiling for the same number of workers: as many
+independent processes, started beforehand, each a serial loop over its share of the runs,
+with no scheduler at all. On a shared virtual machine two processes do not always get
+two cores' worth of work done; "x ceiling" says how much of what the machine gave the
+sweep kept, and "busy" what share of the workers' wall time went into runs.
+
 Each approach is timed on a warm cluster (workers started, imports done, FMUs prepared by a
-first small study), best of N repeats; the cold time of the first sweep (cluster start
-included) is reported beside it. The machine may be shared: compare ratios measured in one
-invocation, and take the best of several invocations.
+first study), best of N turns taken in one window of time per worker count; the cold time of
+the first sweep (cluster start included) is reported beside it.
 
     python -m benchmarks.sweep [--quick] [--workers 1,2] [--json FILE]
 """
@@ -114,15 +119,37 @@ def fmpy_simulate_run(run, fmu: dict):
     return i, float(result["time"][moving[0]]) if len(moving) else math.nan
 
 
+# --- the machine's own ceiling ------------------------------------------------------------
+def _share(runs: list) -> None:
+    """A serial loop over some of the runs (the sweep's run function), in a pool process."""
+    from assemblies.sweep import as_scene, run_chunk
+    run_chunk(as_scene(SCENE), runs, {})
+
+
+def _processes(pool, runs: list, w: int) -> float:
+    """Wall time of `w` processes, started and warmed beforehand, each looping over a
+    w-th of the runs: what the machine gives w workers with no scheduler at all."""
+    started = wallclock.perf_counter()
+    for future in [pool.submit(_share, runs[k::w]) for k in range(w)]:
+        future.result()
+    return wallclock.perf_counter() - started
+
+
 # --- the benchmark -------------------------------------------------------------------------
 def run(quick: bool = False, workers: tuple[int, ...] = (1, 2), repeats: int | None = None):
+    """The records of every approach. Each worker count is one window of time in which the
+    serial loop, the independent processes, the sweep and fmpy's example take turns,
+    `repeats` times, best of each: on a shared machine the speed drifts by tens of per
+    cent over a minute, so a ratio is only taken between runs of one window."""
     import dask.bag as bag
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
 
     from assemblies.sweep import design, dask_client, sweep
     params = grid(quick)
     runs = list(enumerate(design(params)))
     n = len(runs)
-    repeats = repeats or (2 if quick else 3)
+    repeats = repeats or (3 if quick else 5)
     records = []
 
     def t1_error(pairs) -> float:
@@ -131,53 +158,77 @@ def run(quick: bool = False, workers: tuple[int, ...] = (1, 2), repeats: int | N
         return max(abs(slip - runs[i][1]["block.mu_s"] / runs[i][1]["driver.v"])
                    for i, slip in pairs)
 
-    def record(approach, n_workers, wall, error, cold=None, note="", count=n):
-        records.append({"approach": approach, "workers": n_workers, "runs": count,
-                        "wall_s": wall, "runs_per_s": count / wall, "t1_error": error,
-                        "cold_s": cold, "note": note})
-
     def ours(table):
         return t1_error(zip(table["run"], table["t1"]))
 
-    serial = _best(lambda: sweep(SCENE, params, workers=0, progress=False), repeats)
-    record("serial loop in this process", 0, serial,
-           ours(sweep(SCENE, params, workers=0, progress=False)))
+    def serial():
+        return sweep(SCENE, params, workers=0, progress=False)
+
+    serial_error = ours(serial())
     fmu = _block_fmu()
     for w in workers:
+        window = []
+
+        def record(approach, wall, error, cold=None, note="", count=n, **extra):
+            window.append({"approach": approach, "workers": w, "runs": count, "wall_s": wall,
+                           "runs_per_s": count / wall, "t1_error": error, "cold_s": cold,
+                           "note": note, **extra})
+
         started = wallclock.perf_counter()
-        with dask_client(w) as client:
+        with dask_client(w) as client, \
+                ProcessPoolExecutor(w, mp_context=get_context("spawn")) as pool:
             # a first study: workers import the package and prepare the FMUs
             error = ours(sweep(SCENE, params, scheduler=client, progress=False))
             cold = wallclock.perf_counter() - started
-            record("mechfmu sweep (local Dask cluster)", w,
-                   _best(lambda: sweep(SCENE, params, scheduler=client, progress=False),
-                         repeats), error, cold, "cold: cluster start and first study")
+            _processes(pool, runs, w)  # the pool's processes start and prepare
             chunks = w * 4  # as many tasks as the sweep makes
             example = bag.from_sequence(runs, npartitions=chunks).map_partitions(
                 fmpy_example_chunk, fmu)
-            error = t1_error(example.compute())  # and warm: the workers import fmpy
-            record("fmpy example: bag of chunks, FMU3Slave reset per run", w,
-                   _best(example.compute, repeats), error,
-                   note=f"fixed steps of {STEP} s fed from Python: t1 to a step")
+            example_error = t1_error(example.compute())  # and warm: workers import fmpy
             few = runs[: max(2 * w, n // 8)]  # slow: a share of the runs, the rate is what counts
             simulate = bag.from_sequence(few, npartitions=chunks).map(fmpy_simulate_run, fmu)
-            error = t1_error(simulate.compute())
-            record("fmpy.simulate_fmu per run (dask bag)", w, _best(simulate.compute, repeats),
-                   error, note=f"{len(few)} of the {n} runs; t1 to an output step",
-                   count=len(few))
-    for r in records:
-        r["vs_serial"] = r["runs_per_s"] / (n / serial)
+            simulate_error = t1_error(simulate.compute())
+            best = {key: math.inf for key in ("serial", "processes", "sweep", "example",
+                                              "simulate")}
+            busy = math.nan
+            for _ in range(repeats):
+                best["serial"] = min(best["serial"], _best(serial, 1))
+                best["processes"] = min(best["processes"], _processes(pool, runs, w))
+                t0 = wallclock.perf_counter()
+                table = sweep(SCENE, params, scheduler=client, progress=False)
+                wall = wallclock.perf_counter() - t0
+                if wall < best["sweep"]:
+                    # the workers' share of the wall time spent inside runs: what Dask
+                    # itself costs, apart from how fast the machine runs each run
+                    best["sweep"] = wall
+                    busy = float(table["wall_s"].sum()) / (w * wall)
+                best["example"] = min(best["example"], _best(example.compute, 1))
+                best["simulate"] = min(best["simulate"], _best(simulate.compute, 1))
+        record("serial loop in this process", best["serial"], serial_error)
+        record("independent processes, no scheduler (ceiling)", best["processes"],
+               serial_error, note="the machine's own limit for this many workers")
+        record("mechfmu sweep (local Dask cluster)", best["sweep"], error, cold,
+               "cold: cluster start and first study", busy=busy)
+        record("fmpy example: bag of chunks, FMU3Slave reset per run", best["example"],
+               example_error, note=f"fixed steps of {STEP} s fed from Python: t1 to a step")
+        record("fmpy.simulate_fmu per run (dask bag)", best["simulate"], simulate_error,
+               note=f"{len(few)} of the {n} runs; t1 to an output step", count=len(few))
+        for r in window:
+            r["vs_serial"] = r["runs_per_s"] / (n / best["serial"])
+            r["vs_ceiling"] = r["runs_per_s"] / (n / best["processes"])
+        records.extend(window)
     return records
 
 
 def table(records) -> str:
-    lines = [f"{'approach':<54} {'workers':>7} {'runs':>5} {'wall [s]':>9} {'runs/s':>8} "
-             f"{'x serial':>8} {'t1 error':>9} {'cold [s]':>9}"]
+    lines = [f"{'approach':<48} {'workers':>7} {'runs':>5} {'wall [s]':>9} {'runs/s':>8} "
+             f"{'x serial':>8} {'x ceiling':>9} {'t1 error':>9} {'cold [s]':>9} {'busy':>5}"]
     for r in records:
         cold = f"{r['cold_s']:9.2f}" if r["cold_s"] is not None else f"{'':>9}"
-        lines.append(f"{r['approach']:<54} {r['workers'] or '-':>7} {r['runs']:>5} "
+        busy = f"{r['busy']:5.0%}" if "busy" in r else f"{'':>5}"
+        lines.append(f"{r['approach']:<48} {r['workers']:>7} {r['runs']:>5} "
                      f"{r['wall_s']:9.3f} {r['runs_per_s']:8.1f} {r['vs_serial']:8.2f} "
-                     f"{r['t1_error']:9.1e} {cold}")
+                     f"{r['vs_ceiling']:9.2f} {r['t1_error']:9.1e} {cold} {busy}")
     return "\n".join(lines)
 
 
@@ -186,13 +237,13 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="100 runs instead of 400")
     parser.add_argument("--workers", default="1,2",
                         help="comma-separated worker counts (default 1,2; e.g. 1,2,4,8,16)")
-    parser.add_argument("--repeats", type=int, help="best of this many (default 3, quick 2)")
+    parser.add_argument("--repeats", type=int, help="best of this many (default 5, quick 3)")
     parser.add_argument("--json", metavar="FILE", help="write the records and the machine")
     args = parser.parse_args(argv)
     workers = tuple(int(w) for w in args.workers.split(","))
     load = os.getloadavg()[0]
     records = run(args.quick, workers, args.repeats)
-    print(f"{SCENE}: {records[0]['runs']} runs, best of {args.repeats or (2 if args.quick else 3)}"
+    print(f"{SCENE}: {records[0]['runs']} runs, best of {args.repeats or (3 if args.quick else 5)}"
           f"; {os.cpu_count()} cores, load average {load:.1f} at the start")
     print(table(records))
     if args.json:

@@ -24,8 +24,8 @@ from assemblies.cli import main  # noqa: E402
 from assemblies.engine.prepare import binary_key  # noqa: E402
 from assemblies.scenes import scene  # noqa: E402
 from assemblies.scenes.references import stick_slip_first_cycle  # noqa: E402
-from assemblies.sweep import (SweepError, crossings, design, refine, sweep,  # noqa: E402
-                              worker_state)
+from assemblies.sweep import (SweepError, chunk_sizes, crossings, design, refine,  # noqa: E402
+                              sweep, worker_state)
 from components import ConstantSpeed, SpringBlock  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -180,6 +180,17 @@ def test_a_latin_hypercube_puts_one_run_in_each_slice_of_each_range():
         assert slices == list(range(8))
     assert runs == design({"driver.v": "0.02:0.1", "block.mu_s": "0.35:0.6", "block.m": "1"},
                           random=8, seed=3)
+
+
+@pytest.mark.parametrize("n_runs, n_workers", [(400, 2), (16, 2), (400, 16), (1, 4), (7, 3)])
+def test_tasks_shrink_so_workers_finish_together(n_runs, n_workers):
+    sizes = chunk_sizes(n_runs, n_workers)
+    assert sum(sizes) == n_runs and min(sizes) >= 1
+    assert all(a >= b for a, b in zip(sizes, sizes[1:]))  # long tasks go out first
+    # no task is longer than half a worker's share, and the last ones are short
+    assert sizes[0] <= max(1, math.ceil(n_runs / (2 * n_workers)))
+    assert sizes[-1] <= max(1, n_runs // (n_workers * 16))
+    assert chunk_sizes(10, 2, chunk=3) == [3, 3, 3, 1]
 
 
 @pytest.mark.parametrize("args, message", [
