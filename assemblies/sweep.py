@@ -395,11 +395,9 @@ def _on_dask(client, sc, runs, settings, outputs, measure, chunk, report):
     for size in chunk_sizes(len(runs), n_workers, chunk):
         chunks.append(indexed[:size])
         indexed = indexed[size:]
-    # once per worker, not per task; under a key of its own (hash=False): the same scene
-    # scattered by the study before has the same content hash, and that study's future,
-    # released meanwhile, would take the data away from this one ("Could not find data")
-    [scene_future] = client.scatter([sc], broadcast=True, hash=False)
-    futures = {client.submit(run_chunk, scene_future, c, settings, outputs, measure,
+    # the scene goes with each task: it pickles to under a kB (its build and figures go
+    # by reference), less than scattering it costs in round trips before the first run
+    futures = {client.submit(run_chunk, sc, c, settings, outputs, measure,
                              pure=False): c for c in chunks}
     rows = []
     for future in as_completed(futures):

@@ -19,7 +19,7 @@ Each approach is timed on a warm cluster (workers started, imports done, FMUs pr
 first study), best of N turns taken in one window of time per worker count; the cold time of
 the first sweep (cluster start included) is reported beside it.
 
-    python -m benchmarks.sweep [--quick] [--workers 1,2] [--json FILE]
+    python -m benchmarks.sweep [--quick] [--workers 1,2] [--json FILE] [--results]
 """
 from __future__ import annotations
 
@@ -28,6 +28,7 @@ import json
 import math
 import os
 import platform
+import sys
 import time as wallclock
 from pathlib import Path
 
@@ -221,15 +222,36 @@ def run(quick: bool = False, workers: tuple[int, ...] = (1, 2), repeats: int | N
 
 
 def table(records) -> str:
-    lines = [f"{'approach':<48} {'workers':>7} {'runs':>5} {'wall [s]':>9} {'runs/s':>8} "
+    lines = [f"{'approach':<54} {'workers':>7} {'runs':>5} {'wall [s]':>9} {'runs/s':>8} "
              f"{'x serial':>8} {'x ceiling':>9} {'t1 error':>9} {'cold [s]':>9} {'busy':>5}"]
     for r in records:
         cold = f"{r['cold_s']:9.2f}" if r["cold_s"] is not None else f"{'':>9}"
         busy = f"{r['busy']:5.0%}" if "busy" in r else f"{'':>5}"
-        lines.append(f"{r['approach']:<48} {r['workers']:>7} {r['runs']:>5} "
+        lines.append(f"{r['approach']:<54} {r['workers']:>7} {r['runs']:>5} "
                      f"{r['wall_s']:9.3f} {r['runs_per_s']:8.1f} {r['vs_serial']:8.2f} "
                      f"{r['vs_ceiling']:9.2f} {r['t1_error']:9.1e} {cold} {busy}")
     return "\n".join(lines)
+
+
+def results_section(data: dict, command: str) -> list[str]:
+    """The RESULTS.md section of one invocation: the table and what it says."""
+    records = data["records"]
+    lines = ["## Parameter studies on Dask (issue 14)", "",
+             f"`{command}`: {records[0]['runs']} runs of {data['scene']} (about "
+             f"{1e3 * records[0]['wall_s'] / records[0]['runs']:.1f} ms each), best of "
+             f"{data['repeats']} turns per worker count, on {data['cores']} cores at load "
+             f"{data['load_at_start']:.1f}. \"x ceiling\" compares with as many independent "
+             "processes with no scheduler, timed in the same window; \"busy\" is the share of "
+             "the workers' wall time spent inside runs.", "", "```", table(records), "```", ""]
+    for r in records:
+        if r["approach"].startswith("mechfmu sweep") and r["workers"] > 1:
+            lines.append(f"- {r['workers']} workers: {r['vs_serial']:.2f}x the serial loop, "
+                         f"{r['vs_ceiling']:.2f} of what {r['workers']} independent processes "
+                         f"get done in the same window, workers {r['busy']:.0%} busy.")
+    if max(r["workers"] for r in records) < 16:
+        lines.append("- `--workers 1,2,4,8,16` measures the scaling on a machine with as many "
+                     "cores; none was lent to the sessions that ran this.")
+    return lines + [""]
 
 
 def main(argv=None) -> int:
@@ -239,6 +261,8 @@ def main(argv=None) -> int:
                         help="comma-separated worker counts (default 1,2; e.g. 1,2,4,8,16)")
     parser.add_argument("--repeats", type=int, help="best of this many (default 5, quick 3)")
     parser.add_argument("--json", metavar="FILE", help="write the records and the machine")
+    parser.add_argument("--results", action="store_true",
+                        help="write this run's section of benchmarks/RESULTS.md")
     args = parser.parse_args(argv)
     workers = tuple(int(w) for w in args.workers.split(","))
     load = os.getloadavg()[0]
@@ -246,11 +270,18 @@ def main(argv=None) -> int:
     print(f"{SCENE}: {records[0]['runs']} runs, best of {args.repeats or (3 if args.quick else 5)}"
           f"; {os.cpu_count()} cores, load average {load:.1f} at the start")
     print(table(records))
+    data = {"scene": SCENE, "cores": os.cpu_count(), "load_at_start": load,
+            "repeats": args.repeats or (3 if args.quick else 5),
+            "machine": platform.platform(), "records": records}
     if args.json:
-        Path(args.json).write_text(json.dumps({
-            "scene": SCENE, "cores": os.cpu_count(), "load_at_start": load,
-            "machine": platform.platform(), "records": records}, indent=2) + "\n")
+        Path(args.json).write_text(json.dumps(data, indent=2) + "\n")
         print(f"wrote {args.json}")
+    if args.results:
+        from .run_all import HERE, replace_section
+        command = " ".join(["python -m benchmarks.sweep", *(argv if argv is not None
+                                                             else sys.argv[1:])])
+        replace_section(HERE / "RESULTS.md", results_section(data, command))
+        print(f"wrote its section of {HERE / 'RESULTS.md'}")
     return 0
 
 
