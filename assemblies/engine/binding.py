@@ -37,7 +37,8 @@ class InstanceSpec(C.Structure):  # eng_instance_spec
                 ("n_int_starts", C.c_int), ("int_start_vr", _P(C.c_uint32)),
                 ("int_start_values", _P(C.c_int32)),
                 ("n_event_outputs", C.c_int), ("event_output_vr", _P(C.c_uint32)),
-                ("event_output_is_int", _P(C.c_int))]
+                ("event_output_is_int", _P(C.c_int)),
+                ("state_vr", _P(C.c_uint32)), ("derivative_vr", _P(C.c_uint32))]
 
 
 class EventGroup(C.Structure):  # eng_event_group
@@ -58,7 +59,7 @@ class Stats(C.Structure):  # eng_stats
                 ("steps", C.c_long), ("rejected", C.c_long), ("rhs_calls", C.c_long),
                 ("jacobians", C.c_long), ("events", C.c_long), ("method_switches", C.c_long),
                 ("at_rest_from", C.c_double), ("terminated_by", C.c_int),
-                ("message", C.c_char * 1024)]
+                ("exact_jacobian", C.c_int), ("message", C.c_char * 1024)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec
@@ -89,9 +90,11 @@ class Keep(list):
         return arr.ctypes.data_as(_P(ctype))
 
 
-def instance_spec(keep: Keep, name: str, fmu, identifier: str, starts: dict,
+def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict,
                   event_outputs: list[str] = ()) -> InstanceSpec:
-    """One instance: the extracted FMU, and its parameters and start values by name."""
+    """One instance through its Model Exchange or Co-Simulation interface: the extracted
+    FMU, and its parameters and start values by name."""
+    identifier = fmu.me_identifier if model_exchange else fmu.cs_identifier
     floats, ints = fmu.typed_starts(name, starts)
     outs = [fmu.variable(name, v) for v in event_outputs]
     s = InstanceSpec()
@@ -100,7 +103,8 @@ def instance_spec(keep: Keep, name: str, fmu, identifier: str, starts: dict,
     s.fmi_version, s.n_states, s.n_event_indicators = fmu.fmi_version, fmu.n_states, \
         fmu.n_event_indicators
     s.can_get_set_state = int(fmu.can_get_set_state)
-    s.provides_directional_derivative = int(fmu.provides_directional_derivative)
+    s.provides_directional_derivative = int(fmu.me_directional_derivative if model_exchange
+                                            else fmu.provides_directional_derivative)
     s.n_float_starts = len(floats)
     s.float_start_vr = keep.array(C.c_uint32, [vr for vr, _ in floats])
     s.float_start_values = keep.array(C.c_double, [v for _, v in floats])
@@ -110,6 +114,9 @@ def instance_spec(keep: Keep, name: str, fmu, identifier: str, starts: dict,
     s.n_event_outputs = len(outs)
     s.event_output_vr = keep.array(C.c_uint32, [vr for vr, _ in outs])
     s.event_output_is_int = keep.array(C.c_int, [int(i) for _, i in outs])
+    if fmu.n_states and len(fmu.states) == len(fmu.derivatives) == fmu.n_states:
+        s.state_vr = keep.array(C.c_uint32, [fmu.variables[v][0] for v in fmu.states])
+        s.derivative_vr = keep.array(C.c_uint32, [fmu.variables[v][0] for v in fmu.derivatives])
     return s
 
 

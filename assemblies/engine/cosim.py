@@ -182,7 +182,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
 
     keep = Keep()  # every array the spec points into, alive until the call returns
     specs = (InstanceSpec * len(names))(*[
-        instance_spec(keep, n, fmus[n], fmus[n].model_identifier,
+        instance_spec(keep, n, fmus[n], False,
                       assembly.components[n].fmu_starts(),
                       fmus[n].outputs) for n in names])
 

@@ -60,7 +60,7 @@ class _Plan:
         self.start_keys, self.start_arrays = [], []
         specs = []
         for name, fmu, keys in instances:
-            spec = B.instance_spec(keep, name, fmu, fmu.me_identifier, {k: 0 for k in keys})
+            spec = B.instance_spec(keep, name, fmu, True, {k: 0 for k in keys})
             floats = [k for k in keys if not fmu.variable(name, k)[1]]
             ints = [k for k in keys if fmu.variable(name, k)[1]]
             f_values, i_values = np.zeros(max(1, len(floats))), np.zeros(max(1, len(ints)),
@@ -142,6 +142,8 @@ class _Plan:
             "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
             "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
             "method_switches": stats.method_switches,
+            "jacobian": "directional derivatives" if stats.exact_jacobian
+            else "finite differences",
             "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
             "asleep": {n: float(t) for n, t in zip(self.names, asleep) if math.isfinite(t)},
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,

@@ -49,6 +49,7 @@ class PreparedFmu:
     n_event_indicators: int
     can_get_set_state: bool                 # Co-Simulation capability flags
     provides_directional_derivative: bool
+    me_directional_derivative: bool         # the Model Exchange interface's flag
     variables: dict = field(default_factory=dict)  # name -> (value reference, is Int32)
     outputs: list = field(default_factory=list)
     inputs: list = field(default_factory=list)
@@ -109,7 +110,7 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
         cs_identifier=cs.modelIdentifier if cs else None,
         n_states=len(md.derivatives), n_event_indicators=md.numberOfEventIndicators or 0,
         can_get_set_state=bool(cs and cs.canGetAndSetFMUstate),
-        provides_directional_derivative=bool(cs and cs.providesDirectionalDerivative))
+        **_directional_derivatives(md, unzip_dir))
     p.variables = {v.name: (v.valueReference, v.type in ("Int32", "Integer"))
                    for v in md.modelVariables}
     p.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
@@ -120,6 +121,24 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
     p.states = [u.variable.derivative.name for u in md.derivatives]
     p.derivatives = [u.variable.name for u in md.derivatives]
     return p
+
+
+def _directional_derivatives(md, unzip_dir: str) -> dict:
+    """Whether each interface provides directional derivatives. fmpy reads FMI 2's
+    providesDirectionalDerivative but not FMI 3's providesDirectionalDerivatives (plural),
+    which it leaves False; FMI 3's is read from the model description here."""
+    me, cs = md.modelExchange, md.coSimulation
+    if md.fmiVersion.startswith("2"):
+        return {"me_directional_derivative": bool(me and me.providesDirectionalDerivative),
+                "provides_directional_derivative": bool(cs and cs.providesDirectionalDerivative)}
+    from xml.etree import ElementTree
+    root = ElementTree.parse(Path(unzip_dir) / "modelDescription.xml").getroot()
+
+    def provides(interface: str) -> bool:
+        return any(e.get("providesDirectionalDerivatives") in ("true", "1")
+                   for e in root.findall(interface))
+    return {"me_directional_derivative": provides("ModelExchange"),
+            "provides_directional_derivative": provides("CoSimulation")}
 
 
 def _prepared_in_cache(path: Path) -> PreparedFmu:

@@ -37,7 +37,8 @@ typedef struct {
     const char *instance_name;
     int fmi_version;                 /* 2 or 3 */
     int n_states, n_event_indicators;
-    int can_get_set_state, provides_directional_derivative;
+    int can_get_set_state;
+    int provides_directional_derivative; /* for the interface this run uses */
     /* parameters and start values, set before initialization */
     int n_float_starts;
     const uint32_t *float_start_vr;
@@ -50,6 +51,10 @@ typedef struct {
     int n_event_outputs;
     const uint32_t *event_output_vr;
     const int *event_output_is_int;
+    /* its continuous states and their derivatives (n_states each, in the FMU's order of
+       states), for the Jacobian from directional derivatives; NULL: not known */
+    const uint32_t *state_vr;
+    const uint32_t *derivative_vr;
 } eng_instance_spec;
 
 /* Outputs recorded at the events of some indicators of one instance: one event table
@@ -86,6 +91,7 @@ typedef struct {
     long method_switches; /* between DOPRI5 and RODAS3, with ENG_AUTO */
     double at_rest_from;  /* where the run found the system at rest for good; INFINITY: never */
     int terminated_by;    /* the instance that ended the run (ENG_TERMINATED), else -1 */
+    int exact_jacobian;   /* Model Exchange: the Jacobian came from directional derivatives */
     char message[1024];   /* the error (ENG_FAILED) or the terminating FMU's last message */
 } eng_stats;
 

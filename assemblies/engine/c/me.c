@@ -24,6 +24,7 @@
 #include "solver.h"
 #include "solver_implicit.h"
 #include "stiffness.h"
+#include "jacobian.h"
 
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_EVENTS 1000000L
@@ -50,6 +51,8 @@ typedef struct {
     double *pending_value;
     double *row;                 /* an event row */
     double *fd;                  /* finite-difference column */
+    eng_jacobian *exact;         /* the Jacobian from directional derivatives; NULL: by
+                                    finite differences */
     int *group_changed;          /* event groups with an indicator that crossed at this event */
     mf_dopri dopri;
     mf_ros ros;
@@ -188,16 +191,25 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
     return 0;
 }
 
-/* d f / d x by forward differences, column by column. Chosen over directional
-   derivatives because the coupled f runs through every coupling chain (d xdot_i /
-   d x_j passes through other instances' outputs), which one FMU's derivatives do
-   not see, and because any FMU offers it; the n extra evaluations per step are
-   cheap next to a stiff problem's savings in steps. f(t, x) is the solver's own. */
+/* d f / d x: from the instances' directional derivatives carried through the
+   couplings where every instance has them (jacobian.h says why), else by forward
+   differences, column by column, which any FMU allows. An FMU that fails to give its
+   derivatives, or couplings that do not settle, hand the run to finite differences
+   for good. f(t, x) is the solver's own. */
 static int jacobian(void *ctx, double t, const double *x, double *jac)
 {
     me_master *M = ctx;
     const double *f0 = M->ros.f0;
     int i, j, n = M->n_x;
+    if (M->exact) {
+        int bad = -1, rc;
+        if (set_point(M, t, x)) return -1;
+        rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, jac, &bad);
+        if (rc == 0) return 0;
+        eng_jacobian_free(M->exact);
+        M->exact = NULL;
+        M->stats->exact_jacobian = 0;
+    }
     memcpy(M->x_tmp, x, (size_t)n * sizeof(double));
     for (j = 0; j < n; j++) {
         double delta = sqrt(DBL_EPSILON) * fmax(fabs(x[j]), M->nominals[j]);
@@ -790,6 +802,8 @@ static int allocate(me_master *M)
         || !M->asleep || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
+    M->exact = eng_jacobian_plan(s, M->x_off);
+    M->stats->exact_jacobian = M->exact != NULL;
     /* both methods, whichever the run starts with: the automatic choice may take either */
     if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
     mf_stiffness_reset(&M->stiff, s->method == ENG_RODAS3);
@@ -804,6 +818,7 @@ static void release(me_master *M)
         for (i = 0; i < M->n; i++) fmu_free(M->fmus[i]);
     mf_ros_free(&M->ros);
     mf_dopri_free(&M->dopri);
+    eng_jacobian_free(M->exact);
     free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->x_before);
     free(M->x_start); free(M->asleep);

@@ -1,0 +1,40 @@
+/*
+ * The Jacobian of the coupled state derivatives from the instances' directional
+ * derivatives (FMI GetDirectionalDerivative), for the implicit solver and the
+ * stiffness test of the Model Exchange master.
+ *
+ * Why not finite differences alone: an increment of sqrt(eps) |x| can be wider than
+ * the feature that makes a model stiff. A smooth friction law 1e-8 m/s wide, with a
+ * velocity near 1, gets a secant across the whole law instead of its slope, RODAS3
+ * rejects step after step, and a 40 s stick-slip run takes hours instead of
+ * milliseconds. Directional derivatives are exact, and every FMU of ours has them.
+ *
+ * A seed on state j of instance k moves k's derivatives and its coupled outputs; a
+ * coupling passes an output's change on, times its gain, to the input it sets, which
+ * moves that instance's derivatives and outputs in turn. Passes repeat until no coupled
+ * input changes (a loop-free chain settles within as many passes as there are
+ * instances); Int32 couplings are piecewise constant and carry nothing.
+ */
+#ifndef MECHFMU_ENGINE_JACOBIAN_H
+#define MECHFMU_ENGINE_JACOBIAN_H
+
+#include "engine.h"
+#include "fmu.h"
+
+typedef struct eng_jacobian eng_jacobian;
+
+/* The plan for `spec`'s instances (x_off: each instance's slice of the states). NULL
+   when an instance with states or coupled Float64 variables lacks directional
+   derivatives or the value references of its states and derivatives (then finite
+   differences it is), or when memory runs out. */
+eng_jacobian *eng_jacobian_plan(const eng_me_spec *spec, const int *x_off);
+
+/* jac[j * n_x + i] = d xdot_i / d x_j at the point every instance stands at (time,
+   states and coupled inputs set). Instances with asleep[i] nonzero have zero rows and
+   are not called. 0: done; -1: instance *bad failed; 1: the couplings did not settle
+   (an algebraic loop), so the caller should fall back to finite differences. */
+int eng_jacobian_eval(eng_jacobian *J, fmu_t **fmus, const int *asleep, double *jac, int *bad);
+
+void eng_jacobian_free(eng_jacobian *J);
+
+#endif
