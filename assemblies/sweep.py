@@ -391,10 +391,9 @@ def _on_dask(client, sc, runs, settings, outputs, measure, chunk, report):
         raise SweepError(f"the Dask scheduler at {client.scheduler.address} has no worker "
                          "after 30 s") from None
     n_workers = len(client.scheduler_info()["workers"])
-    indexed, chunks = list(enumerate(runs)), []
-    for size in chunk_sizes(len(runs), n_workers, chunk):
-        chunks.append(indexed[:size])
-        indexed = indexed[size:]
+    indexed = enumerate(runs)
+    chunks = [list(itertools.islice(indexed, size))
+              for size in chunk_sizes(len(runs), n_workers, chunk)]
     # the scene goes with each task: it pickles to under a kB (its build and figures go
     # by reference), less than scattering it costs in round trips before the first run
     futures = {client.submit(run_chunk, sc, c, settings, outputs, measure,

@@ -137,6 +137,10 @@ def _processes(pool, runs: list, w: int) -> float:
 
 
 # --- the benchmark -------------------------------------------------------------------------
+def default_repeats(quick: bool) -> int:
+    return 3 if quick else 5
+
+
 def run(quick: bool = False, workers: tuple[int, ...] = (1, 2), repeats: int | None = None):
     """The records of every approach. Each worker count is one window of time in which the
     serial loop, the independent processes, the sweep and fmpy's example take turns,
@@ -146,11 +150,11 @@ def run(quick: bool = False, workers: tuple[int, ...] = (1, 2), repeats: int | N
     from concurrent.futures import ProcessPoolExecutor
     from multiprocessing import get_context
 
-    from assemblies.sweep import design, dask_client, sweep
+    from assemblies.sweep import chunk_sizes, dask_client, design, sweep
     params = grid(quick)
     runs = list(enumerate(design(params)))
     n = len(runs)
-    repeats = repeats or (3 if quick else 5)
+    repeats = repeats or default_repeats(quick)
     records = []
 
     def t1_error(pairs) -> float:
@@ -182,7 +186,7 @@ def run(quick: bool = False, workers: tuple[int, ...] = (1, 2), repeats: int | N
             error = ours(sweep(SCENE, params, scheduler=client, progress=False))
             cold = wallclock.perf_counter() - started
             _processes(pool, runs, w)  # the pool's processes start and prepare
-            chunks = w * 4  # as many tasks as the sweep makes
+            chunks = len(chunk_sizes(n, w))  # as many tasks as the sweep makes
             example = bag.from_sequence(runs, npartitions=chunks).map_partitions(
                 fmpy_example_chunk, fmu)
             example_error = t1_error(example.compute())  # and warm: workers import fmpy
@@ -265,13 +269,14 @@ def main(argv=None) -> int:
                         help="write this run's section of benchmarks/RESULTS.md")
     args = parser.parse_args(argv)
     workers = tuple(int(w) for w in args.workers.split(","))
+    repeats = args.repeats or default_repeats(args.quick)
     load = os.getloadavg()[0]
-    records = run(args.quick, workers, args.repeats)
-    print(f"{SCENE}: {records[0]['runs']} runs, best of {args.repeats or (3 if args.quick else 5)}"
+    records = run(args.quick, workers, repeats)
+    print(f"{SCENE}: {records[0]['runs']} runs, best of {repeats}"
           f"; {os.cpu_count()} cores, load average {load:.1f} at the start")
     print(table(records))
     data = {"scene": SCENE, "cores": os.cpu_count(), "load_at_start": load,
-            "repeats": args.repeats or (3 if args.quick else 5),
+            "repeats": repeats,
             "machine": platform.platform(), "records": records}
     if args.json:
         Path(args.json).write_text(json.dumps(data, indent=2) + "\n")

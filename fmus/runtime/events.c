@@ -145,11 +145,12 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
            take it as one Euler step, a line, and its interior times round to its ends,
            so samples there are a step function whose polynomial oscillates and "finds"
            a crossing at ta again and again. On a line the signs at the ends tell all. */
+        int crossed = 0;
         for (i = 0; i < n; i++) {
             if (z_ref[i] == 0.0) z_ref[i] = z_b[i];
-            else if (mf_crossed(z_ref[i], z_b[i])) first_cross = i;
+            else if (mf_crossed(z_ref[i], z_b[i])) crossed = 1;
         }
-        if (first_cross < 0) return 0;
+        if (!crossed) return 0;
         *t_event = tb;
         memcpy(z_event, z_b, (size_t)n * sizeof(double));
         return 1;

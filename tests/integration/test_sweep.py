@@ -24,8 +24,8 @@ from assemblies.cli import main  # noqa: E402
 from assemblies.engine.prepare import binary_key  # noqa: E402
 from assemblies.scenes import scene  # noqa: E402
 from assemblies.scenes.references import stick_slip_first_cycle  # noqa: E402
-from assemblies.sweep import (SweepError, chunk_sizes, crossings, design, refine,  # noqa: E402
-                              sweep, worker_state)
+from assemblies.sweep import (SMALLEST_SHARE, SweepError, chunk_sizes, crossings,  # noqa: E402
+                              design, refine, sweep, worker_state)
 from components import ConstantSpeed, SpringBlock  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -189,7 +189,7 @@ def test_tasks_shrink_so_workers_finish_together(n_runs, n_workers):
     assert all(a >= b for a, b in zip(sizes, sizes[1:]))  # long tasks go out first
     # no task is longer than half a worker's share, and the last ones are short
     assert sizes[0] <= max(1, math.ceil(n_runs / (2 * n_workers)))
-    assert sizes[-1] <= max(1, n_runs // (n_workers * 16))
+    assert sizes[-1] <= max(1, n_runs // (n_workers * SMALLEST_SHARE))
     assert chunk_sizes(10, 2, chunk=3) == [3, 3, 3, 1]
 
 
