@@ -120,7 +120,9 @@ def test_a_slip_a_rounding_error_before_the_step_end_is_taken_and_the_step_ends(
         fmu.doStep(4.5, 1.0)
         dt = 5.5 - t1
         exact = (speed * t1 - 0.3) * (1 - math.cos(dt)) + speed * (dt - math.sin(dt))
-        assert get_f([vrs["x"]])[0] == pytest.approx(exact, abs=1e-7)
+        # tolerance 1e-10 over 1 s of sliding: both solvers land within 5.1e-11; 1e-9 leaves
+        # the global error ten tolerances (a slip located a step late would be off by ~1e-4)
+        assert get_f([vrs["x"]])[0] == pytest.approx(exact, abs=1e-9)
     finally:
         fmu.terminate()
         fmu.freeInstance()

@@ -84,7 +84,9 @@ def test_the_engine_integrates_the_stiff_law_with_exact_jacobians(mode):
     assert lo <= t1 <= hi, (lo, t1, hi)
     assert all(f.passed for f in run.figures), [(f.name, f.measured, f.reference, f.accuracy)
                                                for f in run.figures]
-    assert settings["steps"] < 50_000  # 9948 here
+    # 9948 steps here; the bound guards against the failure this replaces (6.5 million
+    # steps in the first 0.2 s), not against a few per cent more steps
+    assert settings["steps"] < 50_000
 
 
 @pytest.mark.parametrize("fmi_version", [2, 3])
