@@ -140,6 +140,8 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
         lines.append('    {"", 0},')
     lines.append("};")
     fn = ", ".join(f"{{mf_{k}, mf_{k}_work}}" for k in FUNCTION_ORDER)
+    time_invariant = not ca.depends_on(
+        ca.vertcat(model.xdot, computed_outputs(model), model.z), model.t)
     lines.append(f"""
 const mf_model MF_MODEL = {{
     {_c_string(model_name)}, {_c_string(token)},
@@ -148,7 +150,8 @@ const mf_model MF_MODEL = {{
     {len(table)}, variables, input_derivative, constraints,
     {fn},
     {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"},
-    {{mf_dd, mf_dd_work}}
+    {{mf_dd, mf_dd_work}},
+    {int(time_invariant)}
 }};
 """)
     return "\n".join(lines)

@@ -72,6 +72,9 @@ typedef struct {
     /* d [xdot; y] / d [x; u]: the dense (n_x + n_y) x (n_x + n_u) Jacobian, column-major,
        for fmi2/3GetDirectionalDerivative and fmi3GetAdjointDerivative */
     mf_function dd;
+    /* 1: time appears in none of ode, out and zc, so setting the time alone leaves
+       what they computed valid (an importer sets it at every evaluation) */
+    int time_invariant;
 } mf_model;
 
 extern const mf_model MF_MODEL;

@@ -990,7 +990,7 @@ mf_status mf_set_time(mf_instance *I, const char *fn, double time)
     if (I->t == time && I->t_u == time) return MF_OK; /* cached results stay valid */
     I->t = time;
     I->t_u = time;
-    invalidate(I);
+    if (!I->m->time_invariant) invalidate(I);
     return MF_OK;
 }
 
