@@ -26,6 +26,8 @@ def number(value, what: str, error: type[MechfmuError] = ComponentError,
     """`value` as a float if it is a real number (not a bool, not a string), else
     `error` naming `what` and the type it got: ``stop_time='10'`` is refused, not
     compared as a string or converted behind the caller's back."""
+    if type(value) is float or type(value) is int:  # the usual case, before the ABC check
+        return float(value)
     if isinstance(value, numbers.Real) and not isinstance(value, bool):
         return float(value)
     raise error(f"{what} must be {allowed}, not {type(value).__name__} {value!r}")

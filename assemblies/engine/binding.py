@@ -71,7 +71,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("stop_time", C.c_double), ("tolerance", C.c_double), ("method", C.c_int),
                 ("event_subsamples", C.c_int), ("max_step", C.c_double),
                 ("progress", PROGRESS_FN), ("progress_ctx", C.c_void_p),
-                ("rest_group", _P(C.c_int)), ("asleep_since", _P(C.c_double))]
+                ("rest_group", _P(C.c_int)), ("asleep_since", _P(C.c_double)),
+                ("continuous", _P(C.c_int)), ("column_state", _P(C.c_int))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

@@ -30,6 +30,7 @@ from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
+from .liveness import continuous_couplings
 from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
                       record_columns, rest_groups, structure_key)
 
@@ -46,13 +47,15 @@ class _Plan:
     Built once and reused, so that a repeated run costs its C call and little else;
     only the start values are refilled per run (parameter studies change them)."""
 
-    def __init__(self, instances, couplings, columns, groups):
+    def __init__(self, instances, couplings, columns, groups, continuous=None):
         """instances: (name, PreparedFmu, start keys); couplings: ordered assembly
         Couplings; columns: (instance index, variable); groups: (instance index, first
-        indicator, count, outputs)."""
+        indicator, count, outputs); continuous: per coupling, whether the evaluation
+        between events needs it (liveness.continuous_couplings; None: all)."""
         self.lock = threading.Lock()  # a plan's start values are one run's at a time
         self.capped = True  # steps no longer than the output interval (step_limit_needed)
         self.rest_group = None  # eng_me_spec.rest_group (prepare.rest_groups); None: no rest
+        self.grid = None  # ((stop time, step), buffers) of the last run (_buffers)
         self.keep = keep = B.Keep()
         self.names = [n for n, _, _ in instances]
         self.fmus = [f for _, f, _ in instances]
@@ -80,9 +83,16 @@ class _Plan:
         self.n_couplings = len(couplings)
         self.couplings = (B.Coupling * max(1, len(couplings)))(*[
             B.Coupling(variable(*c.source), variable(*c.target), c.gain) for c in couplings])
+        self.continuous = None if continuous is None else keep.array(
+            C.c_int, [int(needed) for needed in continuous])
+        self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
+                         in zip(couplings, continuous or []) if not needed]
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
         self.columns = (B.Variable * max(1, len(columns)))(*[
             variable(self.names[i], v) for i, v in columns])
+        self.column_state = keep.array(C.c_int, [
+            self.fmus[i].states.index(v) if v in self.fmus[i].states else -1
+            for i, v in columns])
         self.groups = groups
         gs = []
         for i, first, count, outputs in groups:
@@ -99,6 +109,20 @@ class _Plan:
             f_values[:len(floats)] = [values[k] for k in floats]
             i_values[:len(ints)] = [int(values[k]) for k in ints]
 
+    def _buffers(self, stop_time, step):
+        """The output times, the buffers the C writes (rows, when each instance fell
+        asleep) and their addresses: kept for the next run of the same grid, since
+        numpy's ctypes addresses cost microseconds each, as much as a short run's
+        integration (the plan's lock makes the buffers one run's at a time)."""
+        if self.grid is None or self.grid[0] != (stop_time, step):
+            times = output_times(stop_time, step)
+            out = np.empty((len(times), len(self.column_names)))
+            asleep = np.empty(len(self.names))
+            dp = C.POINTER(C.c_double)
+            self.grid = ((stop_time, step), (times, out, asleep, tuple(
+                a.ctypes.data_as(dp) for a in (times, out, asleep))))
+        return self.grid[1]
+
     def set_rest_groups(self, groups: list[int]) -> None:
         if any(g >= 0 for g in groups):
             self.rest_group = self.keep.array(C.c_int, groups)
@@ -107,17 +131,15 @@ class _Plan:
             scheme) -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
         lib = _engine()
-        times = output_times(stop_time, step)
-        out = np.empty((len(times), len(self.column_names)))  # the C writes rows [0, n_rows)
+        times, out, asleep, pointers = self._buffers(stop_time, step)
+        asleep.fill(np.inf)
         prog = B.Progress(progress)
-        dp = C.POINTER(C.c_double)
-        asleep = np.full(len(self.names), np.inf)
         spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
                         len(self.column_names), self.columns, len(self.groups),
-                        self.group_array, len(times), times.ctypes.data_as(dp),
-                        out.ctypes.data_as(dp), stop_time, tolerance, METHODS[method],
-                        event_subsamples, step if self.capped else 0.0, prog.callback, None,
-                        self.rest_group, asleep.ctypes.data_as(dp))
+                        self.group_array, len(times), pointers[0], pointers[1], stop_time,
+                        tolerance, METHODS[method], event_subsamples,
+                        step if self.capped else 0.0, prog.callback, None,
+                        self.rest_group, pointers[2], self.continuous, self.column_state)
         stats = B.Stats()
         started = wallclock.perf_counter()
         with prog.sigint():
@@ -132,9 +154,10 @@ class _Plan:
         if stats.status == B.FAILED:
             raise B.EngineError(f"assembly '{name}': {message}")
         n = stats.n_rows
-        table = {"time": times[:n]}
+        rows = out[:n].copy()  # the buffers serve the plan's next run
+        table = {"time": times[:n].copy()}
         for k, column in enumerate(self.column_names):
-            table[column] = out[:n, k]
+            table[column] = rows[:, k]
         by = stats.terminated_by
         settings = {
             "stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": scheme,
@@ -147,6 +170,7 @@ class _Plan:
             "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
             "asleep": {n: float(t) for n, t in zip(self.names, asleep) if math.isfinite(t)},
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
+            "set_at_events_only": list(self.deferred),
             "terminated": None if stats.status != B.TERMINATED else
             {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
              "message": message}}
@@ -243,11 +267,14 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
             if fmu.me_identifier is None:
                 raise AssemblyError(f"{name}: its FMU has no Model Exchange interface")
         names = list(fmus)
-        columns = [(names.index(i), v) for i, v in record_columns(fmus, record)]
+        recorded = record_columns(fmus, record)
+        columns = [(names.index(i), v) for i, v in recorded]
         groups = [(i, 0, fmus[n].n_event_indicators, fmus[n].outputs)
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
-        plan = _Plan(keys, coupling_order(couplings, fmus), columns, groups)
+        ordered = coupling_order(couplings, fmus)
+        plan = _Plan(keys, ordered, columns, groups,
+                     continuous_couplings(fmus, ordered, recorded))
         plan.capped = step_limit_needed(assembly)
         plan.set_rest_groups(rest_groups(names, couplings, fmus))
         return plan

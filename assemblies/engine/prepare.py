@@ -54,6 +54,10 @@ class PreparedFmu:
     outputs: list = field(default_factory=list)
     inputs: list = field(default_factory=list)
     depends: dict = field(default_factory=dict)    # output -> the inputs it depends on
+    # the inputs the state derivatives, and the event indicators, depend on (all inputs
+    # where the model description does not say)
+    derivatives_depend: set = field(default_factory=set)
+    indicators_depend: set = field(default_factory=set)
     states: list = field(default_factory=list)
     derivatives: list = field(default_factory=list)  # of `states`, in their order
     chained: dict = field(default_factory=dict)    # input the FMU extrapolates -> its derivative input
@@ -118,9 +122,25 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
     p.depends = {u.variable.name: (set(p.inputs) if u.dependencies is None else
                                    {d.name for d in u.dependencies if d.causality == "input"})
                  for u in md.outputs}
+    p.derivatives_depend = _inputs_of(md.derivatives, p.inputs)
+    # FMI 2 does not list the indicators' dependencies, and FMI 3 need not
+    indicators = getattr(md, "eventIndicators", None) or []
+    p.indicators_depend = (_inputs_of(indicators, p.inputs)
+                           if len(indicators) == p.n_event_indicators else set(p.inputs))
     p.states = [u.variable.derivative.name for u in md.derivatives]
     p.derivatives = [u.variable.name for u in md.derivatives]
     return p
+
+
+def _inputs_of(unknowns, inputs: list) -> set:
+    """The inputs some of `unknowns` (ModelStructure entries) depend on; all of them
+    where an entry does not list its dependencies."""
+    depend = set()
+    for u in unknowns:
+        if u.dependencies is None:
+            return set(inputs)
+        depend |= {d.name for d in u.dependencies if d.causality == "input"}
+    return depend
 
 
 def _directional_derivatives(md, unzip_dir: str) -> dict:
@@ -139,6 +159,10 @@ def _directional_derivatives(md, unzip_dir: str) -> dict:
                    for e in root.findall(interface))
     return {"me_directional_derivative": provides("ModelExchange"),
             "provides_directional_derivative": provides("CoSimulation")}
+
+
+#: what a summary JSON holds; one written with other fields is read again from its FMU
+_SUMMARY_VERSION = 2
 
 
 def _prepared_in_cache(path: Path) -> PreparedFmu:
@@ -173,13 +197,20 @@ def _prepared_in_cache(path: Path) -> PreparedFmu:
 def _to_json(p: PreparedFmu) -> dict:
     d = dataclasses.asdict(p)
     d["depends"] = {k: sorted(v) for k, v in p.depends.items()}
+    d["derivatives_depend"] = sorted(p.derivatives_depend)
+    d["indicators_depend"] = sorted(p.indicators_depend)
     d["chained"] = dict(p.chained)
+    d["summary_version"] = _SUMMARY_VERSION
     del d["path"], d["unzip_dir"]  # where the reader finds them
     return d
 
 
 def _from_json(d: dict, path: str, unzip_dir: str) -> PreparedFmu:
+    if d.pop("summary_version", None) != _SUMMARY_VERSION:
+        raise KeyError("summary_version")  # written by an older reader: read the FMU again
     d = dict(d, path=path, unzip_dir=unzip_dir)
+    d["derivatives_depend"] = set(d["derivatives_depend"])
+    d["indicators_depend"] = set(d["indicators_depend"])
     d["variables"] = {k: tuple(v) for k, v in d["variables"].items()}
     d["depends"] = {k: set(v) for k, v in d["depends"].items()}
     d["chained"] = dict(d["chained"])

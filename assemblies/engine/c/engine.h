@@ -122,6 +122,16 @@ typedef struct {
        steps. NULL: nothing rests. */
     const int *rest_group;
     double *asleep_since;          /* out, n_instances (or NULL): when each fell asleep */
+    /* Per coupling, 1 where the evaluation between events needs it: an input that the
+       state derivatives, the event indicators or the recorded columns depend on; 0 for
+       one that can wait for the next event, where every coupling is propagated
+       (assemblies/engine/liveness.py). NULL: every coupling, always. */
+    const int *continuous;
+    /* Per column, the index of the variable in its instance's continuous states where
+       it is one (an FMU's state variable holds the value set by SetContinuousStates),
+       else -1. Rows of states alone are written from the solution, without setting
+       the instances to each output point. NULL: every column is read from its FMU. */
+    const int *column_state;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

@@ -42,10 +42,13 @@ typedef struct {
     double *values, *values_new; /* coupling values, to see the event iteration settle */
     double *sent;         /* the value each coupling last set on its target... */
     int sent_valid;       /* ...valid while nothing else set the inputs */
-    int *segment_end;     /* couplings k .. segment_end[k] are read before any is set */
-    int *run_end;         /* couplings k .. run_end[k] read Float64 outputs of one source */
+    /* couple() sets the couplings the evaluation between events needs
+       (eng_me_spec.continuous): live[p], p < n_live; the arrays below are by p */
+    int *live, n_live;
+    int *segment_end;     /* couplings p .. segment_end[p] are read before any is set */
+    int *run_end;         /* couplings p .. run_end[p] read Float64 outputs of one source */
     int *write_order;     /* a segment's couplings by target, so one call sets a target's inputs */
-    uint32_t *source_vr;  /* source value references, in coupling order */
+    uint32_t *source_vr;  /* source value references */
     double *read;         /* source values read in one call per run */
     uint32_t *pending_vr; /* inputs of one target waiting to be set in one call */
     double *pending_value;
@@ -61,6 +64,7 @@ typedef struct {
     double t_set;         /* the point the instances were last set to */
     int set_valid;
     long k_out;           /* next output row */
+    int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
     int next_defined;     /* a time event is due at t_next */
     double t_next;
     int terminate;        /* an instance asked to end the run */
@@ -111,25 +115,28 @@ static int flush(me_master *M, int target, int *n_pending, double t)
    drops what it computed whenever an input changes). The outputs of one source are
    read in one call, the changed inputs of one target are set in one call, and an input
    whose value did not change since it was last set is not set again (an FMU keeps a
-   value until it is set: exact, and the FMU keeps what it computed from it). */
+   value until it is set: exact, and the FMU keeps what it computed from it). Only the
+   couplings the evaluation between events needs are set here (plan_couplings); the
+   event iteration propagates them all. */
 static int couple(me_master *M, double t)
 {
     const eng_coupling *c = M->spec->couplings;
-    int k, j, w, nc = M->spec->n_couplings;
-    for (k = 0; k < nc; k = M->segment_end[k] + 1) {
+    int k, p, j, w, n = M->n_live;
+    for (k = 0; k < n; k = M->segment_end[k] + 1) {
         int end = M->segment_end[k], target = -1, n_pending = 0;
-        for (j = k; j <= end; j = M->run_end[j] + 1) {
-            fmu_t *source = M->fmus[c[j].source.instance];
-            int rc = c[j].source.is_int
-                         ? eng_get_value(source, c[j].source.vr, 1, &M->read[j])
-                         : fmu_get_float64(source, M->source_vr + j,
-                                           (size_t)(M->run_end[j] - j + 1), M->read + j);
-            if (rc) return failed(M, c[j].source.instance, "reading a coupled output", t);
+        for (p = k; p <= end; p = M->run_end[p] + 1) {
+            const eng_variable *source = &c[M->live[p]].source;
+            int rc = source->is_int
+                         ? eng_get_value(M->fmus[source->instance], source->vr, 1, &M->read[p])
+                         : fmu_get_float64(M->fmus[source->instance], M->source_vr + p,
+                                           (size_t)(M->run_end[p] - p + 1), M->read + p);
+            if (rc) return failed(M, source->instance, "reading a coupled output", t);
         }
         for (w = k; w <= end; w++) {
             double v;
-            j = M->write_order[w];
-            v = c[j].gain * M->read[j];
+            p = M->write_order[w];
+            j = M->live[p];
+            v = c[j].gain * M->read[p];
             if (M->sent_valid && v == M->sent[j]) continue;
             if (c[j].target.instance != target && flush(M, target, &n_pending, t)) return -1;
             target = c[j].target.instance;
@@ -324,10 +331,12 @@ static int write_row(me_master *M, double t, const double *x)
     const eng_me_spec *s = M->spec;
     double *row = s->out + (size_t)M->k_out * (size_t)s->n_columns;
     int c;
-    if (set_point(M, t, x)) return -1;
+    if (!M->rows_from_states && set_point(M, t, x)) return -1;
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
-        if (eng_get_value(M->fmus[v->instance], v->vr, v->is_int, &row[c]))
+        if (M->rows_from_states)
+            row[c] = x[M->x_off[v->instance] + s->column_state[c]];
+        else if (eng_get_value(M->fmus[v->instance], v->vr, v->is_int, &row[c]))
             return failed(M, v->instance, "reading the recorded outputs", t);
     }
     M->k_out++;
@@ -722,32 +731,44 @@ static double *zeros(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(doub
    depends on); a segment ends before a coupling whose source instance a coupling of
    the segment sets, so reading a whole segment before setting it reads the same values
    as going one by one. Python orders them by dependency level, which makes segments
-   long. */
+   long. Only the couplings the evaluation between events needs take part (live). */
+static const eng_coupling *live(const me_master *M, int p)
+{
+    return &M->spec->couplings[M->live[p]];
+}
+
 static int plan_couplings(me_master *M)
 {
-    const eng_coupling *c = M->spec->couplings;
-    int nc = M->spec->n_couplings, i, j, start = 0;
+    const int *continuous = M->spec->continuous;
+    int nc = M->spec->n_couplings, n, i, j, start = 0;
     char *targeted = calloc((size_t)M->n + 1, 1);
     if (!targeted) return -1;
-    for (i = 0; i <= nc; i++) {
-        if (i == nc || targeted[c[i].source.instance]) { /* close the segment start .. i-1 */
+    for (n = i = 0; i < nc; i++)
+        if (!continuous || continuous[i]) M->live[n++] = i;
+    M->n_live = n;
+    for (i = 0; i <= n; i++) {
+        /* close the segment start .. i-1 */
+        if (i == n || targeted[live(M, i)->source.instance]) {
             int w = start, inst;
             for (j = start; j < i; j++) M->segment_end[j] = i - 1;
             for (inst = 0; inst < M->n; inst++) /* stable: by target instance */
                 for (j = start; j < i; j++)
-                    if (c[j].target.instance == inst) M->write_order[w++] = j;
+                    if (live(M, j)->target.instance == inst) M->write_order[w++] = j;
             memset(targeted, 0, (size_t)M->n);
             start = i;
         }
-        if (i < nc) targeted[c[i].target.instance] = 1;
+        if (i < n) targeted[live(M, i)->target.instance] = 1;
     }
     free(targeted);
-    for (i = nc - 1; i >= 0; i--) {
-        M->source_vr[i] = c[i].source.vr;
+    for (i = n - 1; i >= 0; i--) {
+        const eng_variable *source = &live(M, i)->source, *next;
+        M->source_vr[i] = source->vr;
         M->run_end[i] = i;
+        if (i + 1 == n) continue;
         /* one read for a run of one source's Float64 outputs within one segment */
-        if (i + 1 < nc && M->segment_end[i + 1] == M->segment_end[i] && !c[i].source.is_int &&
-            !c[i + 1].source.is_int && c[i + 1].source.instance == c[i].source.instance)
+        next = &live(M, i + 1)->source;
+        if (M->segment_end[i + 1] == M->segment_end[i] && !source->is_int && !next->is_int &&
+            next->instance == source->instance)
             M->run_end[i] = M->run_end[i + 1];
     }
     return 0;
@@ -771,6 +792,12 @@ static int allocate(me_master *M)
         if (1 + s->event_groups[i].n_outputs > width) width = 1 + s->event_groups[i].n_outputs;
     M->n_x = M->x_off[n];
     M->n_z = M->z_off[n];
+    M->rows_from_states = s->column_state != NULL;
+    for (i = 0; i < s->n_columns && M->rows_from_states; i++) {
+        const eng_variable *v = &s->columns[i];
+        int k = s->column_state[i];
+        M->rows_from_states = k >= 0 && k < M->x_off[v->instance + 1] - M->x_off[v->instance];
+    }
     M->x = zeros(M->n_x);
     M->x_tmp = zeros(M->n_x);
     M->x_set = zeros(M->n_x);
@@ -787,13 +814,14 @@ static int allocate(me_master *M)
     M->values_new = zeros(s->n_couplings);
     M->sent = zeros(s->n_couplings);
     M->read = zeros(s->n_couplings);
+    M->live = calloc((size_t)s->n_couplings + 1, sizeof(int));
     M->segment_end = calloc((size_t)s->n_couplings + 1, sizeof(int));
     M->run_end = calloc((size_t)s->n_couplings + 1, sizeof(int));
     M->write_order = calloc((size_t)s->n_couplings + 1, sizeof(int));
     M->source_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_value = zeros(s->n_couplings);
-    if (!M->sent || !M->read || !M->segment_end || !M->run_end || !M->write_order ||
+    if (!M->sent || !M->read || !M->live || !M->segment_end || !M->run_end || !M->write_order ||
         !M->source_vr || !M->pending_vr || !M->pending_value)
         return -1;
     if (plan_couplings(M)) return -1;
@@ -824,7 +852,7 @@ static void release(me_master *M)
     free(M->x_start); free(M->asleep);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
-    free(M->sent); free(M->read); free(M->segment_end); free(M->run_end);
+    free(M->sent); free(M->read); free(M->live); free(M->segment_end); free(M->run_end);
     free(M->write_order); free(M->source_vr);
     free(M->pending_vr); free(M->pending_value);
 }
