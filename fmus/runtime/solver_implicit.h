@@ -33,7 +33,10 @@ typedef struct {
     double *xs, *xn, *tmp; /* stage argument, candidate solution, scratch */
     double *jac, *lu;      /* Jacobian at the current point and the factored matrix */
     int *piv;
-    double *dx0, *df0, *dx1, *df1; /* end points and slopes of the last accepted step */
+    double *dx0, *dx1;     /* end points of the last accepted step */
+    double *dc0, *dc1;     /* its dense output's cubic part, from the stages; like the
+                              rest of the dense output not part of an FMU state, as it
+                              is read only before the next step */
     double t_old, h_old;   /* last accepted step covers [t_old, t_old + h_old] */
     double h_guess;        /* controller's proposal for the next step; 0 = none yet */
     int fsal_valid;        /* f0 belongs to the current (t, x) */
@@ -61,8 +64,12 @@ void mf_ros_reset(mf_ros *s);
 mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, double *t,
                           double *x, double t_end, double rtol, double h_initial);
 
-/* Cubic Hermite interpolation of the last accepted step (from its end points and
-   their derivatives: 3rd order, C1 across steps), at time t in it. */
+/* The continuous extension of the last accepted step, at time t in it: a cubic in
+   the stages (3rd order; continuous, not C1, across steps). Unlike a Hermite cubic
+   through the end slopes it stays bounded on stiff components: an end point within
+   the tolerance delta of a slow manifold of eigenvalue -rho has the slope rho delta,
+   which Hermite turns into a bulge of h rho delta / 4, while every stage carries
+   (I / (h gamma) - J)^-1 and keeps it near delta. */
 void mf_ros_dense(const mf_ros *s, double t, double *x);
 
 #endif
