@@ -42,6 +42,17 @@ static const double GAMMA5 = 0.5;
 static const double D01 = 7.0, D02 = -3.0, D03 = -1.0, D04 = 5.0, D05 = 2.0;
 static const double D11 = -4.0, D12 = 2.0, D14 = -4.0, D15 = -2.0;
 
+/* A step is refused when a diagonal entry of J that is stiff for it (h J_ii below
+   -FOLD_STIFF) keeps less than 1 / FOLD_LOSS of its value at the step's end. An
+   L-stable step damps whatever is fast at its start, so it can carry a component
+   past the end of its slow manifold (a fold: the smooth friction law's peak, where
+   J_ii tends to 0) and land, with a small error estimate, where the true solution
+   has already run off. Refused steps approach such a point geometrically. The
+   diagonal stands for the spectrum: it costs nothing more than the Jacobian the
+   next step needs anyway. */
+static const double FOLD_STIFF = 10.0;
+static const double FOLD_LOSS = 4.0;
+
 static const double SAFE = 0.9;
 static const double FAC_MIN = 0.2;  /* h may shrink at most by 5 */
 static const double FAC_MAX = 6.0;  /* and grow at most by 6 per step */
@@ -59,9 +70,10 @@ int mf_ros_alloc(mf_ros *s, int n)
     for (i = 0; i < (int)(sizeof vec / sizeof vec[0]); i++)
         if (!(*vec[i] = (double *)calloc(len, sizeof(double)))) goto fail;
     s->jac = (double *)calloc(len * len, sizeof(double));
+    s->jac_next = (double *)calloc(len * len, sizeof(double));
     s->lu = (double *)calloc(len * len, sizeof(double));
     s->piv = (int *)calloc(len, sizeof(int));
-    if (!s->jac || !s->lu || !s->piv) goto fail;
+    if (!s->jac || !s->jac_next || !s->lu || !s->piv) goto fail;
     mf_ros_reset(s);
     return 0;
 fail:
@@ -75,17 +87,17 @@ void mf_ros_free(mf_ros *s)
     for (i = 0; i < 4; i++) { free(s->k[i]); s->k[i] = NULL; }
     free(s->f0); free(s->fdt); free(s->xs); free(s->xn); free(s->tmp);
     free(s->dx0); free(s->dx1); free(s->dc0); free(s->dc1);
-    free(s->jac); free(s->lu); free(s->piv);
+    free(s->jac); free(s->jac_next); free(s->lu); free(s->piv);
     s->f0 = s->fdt = s->xs = s->xn = s->tmp = NULL;
-    s->dx0 = s->dx1 = s->dc0 = s->dc1 = s->jac = s->lu = NULL;
+    s->dx0 = s->dx1 = s->dc0 = s->dc1 = s->jac = s->jac_next = s->lu = NULL;
     s->piv = NULL;
 }
 
-void mf_ros_restart(mf_ros *s) { s->fsal_valid = 0; }
+void mf_ros_restart(mf_ros *s) { s->fsal_valid = s->jac_next_valid = 0; }
 
 void mf_ros_reset(mf_ros *s)
 {
-    s->fsal_valid = 0;
+    s->fsal_valid = s->jac_next_valid = 0;
     s->h_guess = 0.0;
     s->t_old = 0.0;
     s->h_old = 0.0;
@@ -96,6 +108,16 @@ static int all_finite(const double *v, size_t n)
     size_t i;
     for (i = 0; i < n; i++) if (!isfinite(v[i])) return 0;
     return 1;
+}
+
+/* some diagonal entry of J is stiff for a step of size h: only then can the step
+   cross a fold unnoticed */
+static int fold_possible(const mf_ros *s, double h)
+{
+    int i;
+    for (i = 0; i < s->n; i++)
+        if (h * s->jac[i + i * s->n] < -FOLD_STIFF) return 1;
+    return 0;
 }
 
 static int eval(mf_ros *s, mf_rhs_fn f, void *ctx, double t, const double *x, double *dx)
@@ -159,15 +181,23 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
         s->t_old = t0;
         s->h_old = hh;
         *t = t_end;
-        s->fsal_valid = 0; /* f at the new point was not evaluated */
+        s->fsal_valid = s->jac_next_valid = 0; /* f at the new point was not evaluated */
         return MF_ROS_OK;
     }
     /* J and df/dt belong to the step's start point: computed once, kept through
        rejections. Time enters through the extrapolated inputs (and any explicit t);
        a forward difference is accurate enough for the gamma_i h df/dt term. */
-    s->n_jac++;
-    if (jac(ctx, t0, x, s->jac) != 0 || !all_finite(s->jac, (size_t)n * (size_t)n))
-        return MF_ROS_RHS_FAILED;
+    if (s->jac_next_valid) {
+        /* the fold check evaluated it at this point */
+        double *swap = s->jac;
+        s->jac = s->jac_next;
+        s->jac_next = swap;
+        s->jac_next_valid = 0;
+    } else {
+        s->n_jac++;
+        if (jac(ctx, t0, x, s->jac) != 0 || !all_finite(s->jac, (size_t)n * (size_t)n))
+            return MF_ROS_RHS_FAILED;
+    }
     dt = sqrt(DBL_EPSILON) * fmax(1.0, fabs(t0));
     if (eval(s, f, ctx, t0 + dt, x, s->fdt)) {
         for (i = 0; i < n; i++) s->fdt[i] = (s->fdt[i] - s->f0[i]) / dt;
@@ -228,6 +258,32 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
         if (ok && err <= 1.0) {
             for (i = 0; i < n; i++) s->xs[i] = s->tmp[i] + h * GAMMA5 * s->fdt[i];
             ok = solve(s, s->xs);
+        }
+        if (ok && err <= 1.0 && fold_possible(s, h)) {
+            /* the Jacobian where the step ends; f there is f0 for jac's finite
+               differences. One that cannot be had is left to the next step to report. */
+            double *swap = s->f0;
+            int fold = 0;
+            s->f0 = s->tmp;
+            s->tmp = swap;
+            s->n_jac++;
+            s->jac_next_valid = jac(ctx, t0 + h, s->xn, s->jac_next) == 0 &&
+                                all_finite(s->jac_next, (size_t)n * (size_t)n);
+            swap = s->f0;
+            s->f0 = s->tmp;
+            s->tmp = swap;
+            for (i = 0; i < n && s->jac_next_valid; i++) {
+                const double j0 = s->jac[i + i * n], j1 = s->jac_next[i + i * n];
+                if (h * j0 < -FOLD_STIFF && j1 > j0 / FOLD_LOSS) fold = 1;
+            }
+            if (fold) {
+                s->n_rejected++;
+                s->jac_next_valid = 0;
+                rejected = 1;
+                failed = 0;
+                h *= 0.5;
+                continue;
+            }
         }
         if (!ok) {
             /* a singular matrix or a trial point outside the model's domain */

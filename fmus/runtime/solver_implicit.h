@@ -15,7 +15,8 @@
 
 #include "solver.h" /* mf_rhs_fn */
 
-/* d f / d x at (t, x), column-major n x n. 0 on success. */
+/* d f / d x at (t, x), column-major n x n. 0 on success. The solver's f0 holds
+   f(t, x) during the call (a forward-difference Jacobian reads it). */
 typedef int (*mf_jac_fn)(void *ctx, double t, const double *x, double *jac);
 
 typedef enum {
@@ -32,6 +33,8 @@ typedef struct {
     double *fdt;           /* d f / d t at the current point, by a forward difference */
     double *xs, *xn, *tmp; /* stage argument, candidate solution, scratch */
     double *jac, *lu;      /* Jacobian at the current point and the factored matrix */
+    double *jac_next;      /* Jacobian where the last accepted step ended (the fold
+                              check's), the next step's when jac_next_valid */
     int *piv;
     double *dx0, *dx1;     /* end points of the last accepted step */
     double *dc0, *dc1;     /* its dense output's cubic part, from the stages; like the
@@ -40,6 +43,7 @@ typedef struct {
     double t_old, h_old;   /* last accepted step covers [t_old, t_old + h_old] */
     double h_guess;        /* controller's proposal for the next step; 0 = none yet */
     int fsal_valid;        /* f0 belongs to the current (t, x) */
+    int jac_next_valid;    /* so does jac_next: cleared with fsal_valid */
     long n_rejected;       /* statistics, for logging */
     long n_rhs;
     long n_jac;
