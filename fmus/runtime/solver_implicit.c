@@ -28,6 +28,30 @@ static const double GAMMA1 = 0.5, GAMMA2 = 1.5; /* gamma_i = sum_j gamma_ij (0 f
 /* a_ij: stage 2 is evaluated at (t, x) (no new f), stage 3 at x + 2 K1, stage 4 at
    x + 2 K1 + K3, all of 3 and 4 at t + h; m = (2, 0, 1, 1) gives x_new = stage-4
    argument + K4. */
+/* The dense output's extra stage K5 = lu \ (f(t + h, x_new) + h GAMMA5 df/dt) reuses
+   the slope the next step needs anyway and the factored matrix: K1..K4 alone cannot
+   give a 3rd-order interpolant (K3 and K4 carry the same combination of the two 3rd-
+   order elementary differentials f''(f, f) and f'f'f). GAMMA5 makes the time
+   component of K5 h / 2, as for an autonomous system. */
+static const double GAMMA5 = 0.5;
+/* x(t + theta h) = (1 - theta) x + theta x_new + theta (1 - theta) (D0 + theta D1),
+   weights from the order conditions up to 3 with the weight of K3 set to theta^2:
+   then in the stiff limit (h rho -> infinity for x' = -rho (x - g(t))) the interpolant
+   is the quadratic through g at the step's start, slope and end, plus the end points'
+   distances from g times bounded weights, never rho times them. */
+static const double D01 = 7.0, D02 = -3.0, D03 = -1.0, D04 = 5.0, D05 = 2.0;
+static const double D11 = -4.0, D12 = 2.0, D14 = -4.0, D15 = -2.0;
+
+/* A step is refused when a diagonal entry of J that is stiff for it (h J_ii below
+   -FOLD_STIFF) keeps less than 1 / FOLD_LOSS of its value at the step's end. An
+   L-stable step damps whatever is fast at its start, so it can carry a component
+   past the end of its slow manifold (a fold: the smooth friction law's peak, where
+   J_ii tends to 0) and land, with a small error estimate, where the true solution
+   has already run off. Refused steps approach such a point geometrically. The
+   diagonal stands for the spectrum: it costs nothing more than the Jacobian the
+   next step needs anyway. */
+static const double FOLD_STIFF = 10.0;
+static const double FOLD_LOSS = 4.0;
 
 static const double SAFE = 0.9;
 static const double FAC_MIN = 0.2;  /* h may shrink at most by 5 */
@@ -38,7 +62,7 @@ int mf_ros_alloc(mf_ros *s, int n)
     int i;
     size_t len = (size_t)(n > 0 ? n : 1);
     double **vec[] = {&s->f0, &s->fdt, &s->xs, &s->xn, &s->tmp,
-                      &s->dx0, &s->df0, &s->dx1, &s->df1};
+                      &s->dx0, &s->dx1, &s->dc0, &s->dc1};
     memset(s, 0, sizeof *s);
     s->n = n;
     for (i = 0; i < 4; i++)
@@ -46,9 +70,10 @@ int mf_ros_alloc(mf_ros *s, int n)
     for (i = 0; i < (int)(sizeof vec / sizeof vec[0]); i++)
         if (!(*vec[i] = (double *)calloc(len, sizeof(double)))) goto fail;
     s->jac = (double *)calloc(len * len, sizeof(double));
+    s->jac_next = (double *)calloc(len * len, sizeof(double));
     s->lu = (double *)calloc(len * len, sizeof(double));
     s->piv = (int *)calloc(len, sizeof(int));
-    if (!s->jac || !s->lu || !s->piv) goto fail;
+    if (!s->jac || !s->jac_next || !s->lu || !s->piv) goto fail;
     mf_ros_reset(s);
     return 0;
 fail:
@@ -61,18 +86,18 @@ void mf_ros_free(mf_ros *s)
     int i;
     for (i = 0; i < 4; i++) { free(s->k[i]); s->k[i] = NULL; }
     free(s->f0); free(s->fdt); free(s->xs); free(s->xn); free(s->tmp);
-    free(s->dx0); free(s->df0); free(s->dx1); free(s->df1);
-    free(s->jac); free(s->lu); free(s->piv);
+    free(s->dx0); free(s->dx1); free(s->dc0); free(s->dc1);
+    free(s->jac); free(s->jac_next); free(s->lu); free(s->piv);
     s->f0 = s->fdt = s->xs = s->xn = s->tmp = NULL;
-    s->dx0 = s->df0 = s->dx1 = s->df1 = s->jac = s->lu = NULL;
+    s->dx0 = s->dx1 = s->dc0 = s->dc1 = s->jac = s->jac_next = s->lu = NULL;
     s->piv = NULL;
 }
 
-void mf_ros_restart(mf_ros *s) { s->fsal_valid = 0; }
+void mf_ros_restart(mf_ros *s) { s->fsal_valid = s->jac_next_valid = 0; }
 
 void mf_ros_reset(mf_ros *s)
 {
-    s->fsal_valid = 0;
+    s->fsal_valid = s->jac_next_valid = 0;
     s->h_guess = 0.0;
     s->t_old = 0.0;
     s->h_old = 0.0;
@@ -83,6 +108,16 @@ static int all_finite(const double *v, size_t n)
     size_t i;
     for (i = 0; i < n; i++) if (!isfinite(v[i])) return 0;
     return 1;
+}
+
+/* some diagonal entry of J is stiff for a step of size h: only then can the step
+   cross a fold unnoticed */
+static int fold_possible(const mf_ros *s, double h)
+{
+    int i;
+    for (i = 0; i < s->n; i++)
+        if (h * s->jac[i + i * s->n] < -FOLD_STIFF) return 1;
+    return 0;
 }
 
 static int eval(mf_ros *s, mf_rhs_fn f, void *ctx, double t, const double *x, double *dx)
@@ -133,27 +168,36 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
     if (t_end - t0 < h_min) {
         /* shorter than the controller's smallest step: one explicit Euler step, as in
            mf_dopri_step (I / (h gamma) would overflow for the shortest steps); the
-           Hermite dense output with equal end slopes is its line */
+           dense output without its cubic part is the step's line */
         const double hh = t_end - t0;
         for (i = 0; i < n; i++)
             if (!isfinite(x[i] + hh * s->f0[i])) return MF_ROS_RHS_FAILED;
-        memcpy(s->dx0, x, (size_t)n * sizeof(double));
-        memcpy(s->df0, s->f0, (size_t)n * sizeof(double));
-        memcpy(s->df1, s->f0, (size_t)n * sizeof(double));
-        for (i = 0; i < n; i++) x[i] += hh * s->f0[i];
-        memcpy(s->dx1, x, (size_t)n * sizeof(double));
+        for (i = 0; i < n; i++) {
+            s->dx0[i] = x[i];
+            x[i] += hh * s->f0[i];
+            s->dx1[i] = x[i];
+            s->dc0[i] = s->dc1[i] = 0.0;
+        }
         s->t_old = t0;
         s->h_old = hh;
         *t = t_end;
-        s->fsal_valid = 0; /* f at the new point was not evaluated */
+        s->fsal_valid = s->jac_next_valid = 0; /* f at the new point was not evaluated */
         return MF_ROS_OK;
     }
     /* J and df/dt belong to the step's start point: computed once, kept through
        rejections. Time enters through the extrapolated inputs (and any explicit t);
        a forward difference is accurate enough for the gamma_i h df/dt term. */
-    s->n_jac++;
-    if (jac(ctx, t0, x, s->jac) != 0 || !all_finite(s->jac, (size_t)n * (size_t)n))
-        return MF_ROS_RHS_FAILED;
+    if (s->jac_next_valid) {
+        /* the fold check evaluated it at this point */
+        double *swap = s->jac;
+        s->jac = s->jac_next;
+        s->jac_next = swap;
+        s->jac_next_valid = 0;
+    } else {
+        s->n_jac++;
+        if (jac(ctx, t0, x, s->jac) != 0 || !all_finite(s->jac, (size_t)n * (size_t)n))
+            return MF_ROS_RHS_FAILED;
+    }
     dt = sqrt(DBL_EPSILON) * fmax(1.0, fabs(t0));
     if (eval(s, f, ctx, t0 + dt, x, s->fdt)) {
         for (i = 0; i < n; i++) s->fdt[i] = (s->fdt[i] - s->f0[i]) / dt;
@@ -208,8 +252,39 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
             err = sqrt(err / n);
             ok = isfinite(err) && all_finite(s->xn, (size_t)n);
         }
-        /* the slope at the new point: for the dense output, and stage 1 of the next step */
+        /* the slope at the new point, stage 1 of the next step, and through the matrix
+           the dense output's K5 (in xs, free now) */
         if (ok && err <= 1.0) ok = eval(s, f, ctx, t0 + h, s->xn, s->tmp);
+        if (ok && err <= 1.0) {
+            for (i = 0; i < n; i++) s->xs[i] = s->tmp[i] + h * GAMMA5 * s->fdt[i];
+            ok = solve(s, s->xs);
+        }
+        if (ok && err <= 1.0 && fold_possible(s, h)) {
+            /* the Jacobian where the step ends; f there is f0 for jac's finite
+               differences. One that cannot be had is left to the next step to report. */
+            double *swap = s->f0;
+            int fold = 0;
+            s->f0 = s->tmp;
+            s->tmp = swap;
+            s->n_jac++;
+            s->jac_next_valid = jac(ctx, t0 + h, s->xn, s->jac_next) == 0 &&
+                                all_finite(s->jac_next, (size_t)n * (size_t)n);
+            swap = s->f0;
+            s->f0 = s->tmp;
+            s->tmp = swap;
+            for (i = 0; i < n && s->jac_next_valid; i++) {
+                const double j0 = s->jac[i + i * n], j1 = s->jac_next[i + i * n];
+                if (h * j0 < -FOLD_STIFF && j1 > j0 / FOLD_LOSS) fold = 1;
+            }
+            if (fold) {
+                s->n_rejected++;
+                s->jac_next_valid = 0;
+                rejected = 1;
+                failed = 0;
+                h *= 0.5;
+                continue;
+            }
+        }
         if (!ok) {
             /* a singular matrix or a trial point outside the model's domain */
             s->n_rejected++;
@@ -226,8 +301,11 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
             if (rejected) hnew = fmin(hnew, h);
             memcpy(s->dx0, x, (size_t)n * sizeof(double));
             memcpy(s->dx1, s->xn, (size_t)n * sizeof(double));
-            memcpy(s->df0, s->f0, (size_t)n * sizeof(double));
-            memcpy(s->df1, s->tmp, (size_t)n * sizeof(double));
+            for (i = 0; i < n; i++) {
+                s->dc0[i] = D01 * k1[i] + D02 * k2[i] + D03 * k3[i] + D04 * k4[i] +
+                            D05 * s->xs[i];
+                s->dc1[i] = D11 * k1[i] + D12 * k2[i] + D14 * k4[i] + D15 * s->xs[i];
+            }
             memcpy(x, s->xn, (size_t)n * sizeof(double));
             swap = s->f0;
             s->f0 = s->tmp;
@@ -252,10 +330,7 @@ void mf_ros_dense(const mf_ros *s, double t, double *x)
     double th, h = s->h_old;
     if (s->n == 0) return;
     th = h > 0.0 ? (t - s->t_old) / h : 1.0;
-    for (i = 0; i < s->n; i++) {
-        double d = s->dx1[i] - s->dx0[i];
+    for (i = 0; i < s->n; i++)
         x[i] = (1.0 - th) * s->dx0[i] + th * s->dx1[i] +
-               th * (th - 1.0) * ((1.0 - 2.0 * th) * d + (th - 1.0) * h * s->df0[i] +
-                                  th * h * s->df1[i]);
-    }
+               th * (1.0 - th) * (s->dc0[i] + th * s->dc1[i]);
 }

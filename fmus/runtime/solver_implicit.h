@@ -15,7 +15,8 @@
 
 #include "solver.h" /* mf_rhs_fn */
 
-/* d f / d x at (t, x), column-major n x n. 0 on success. */
+/* d f / d x at (t, x), column-major n x n. 0 on success. The solver's f0 holds
+   f(t, x) during the call (a forward-difference Jacobian reads it). */
 typedef int (*mf_jac_fn)(void *ctx, double t, const double *x, double *jac);
 
 typedef enum {
@@ -32,11 +33,17 @@ typedef struct {
     double *fdt;           /* d f / d t at the current point, by a forward difference */
     double *xs, *xn, *tmp; /* stage argument, candidate solution, scratch */
     double *jac, *lu;      /* Jacobian at the current point and the factored matrix */
+    double *jac_next;      /* Jacobian where the last accepted step ended (the fold
+                              check's), the next step's when jac_next_valid */
     int *piv;
-    double *dx0, *df0, *dx1, *df1; /* end points and slopes of the last accepted step */
+    double *dx0, *dx1;     /* end points of the last accepted step */
+    double *dc0, *dc1;     /* its dense output's cubic part, from the stages; like the
+                              rest of the dense output not part of an FMU state, as it
+                              is read only before the next step */
     double t_old, h_old;   /* last accepted step covers [t_old, t_old + h_old] */
     double h_guess;        /* controller's proposal for the next step; 0 = none yet */
     int fsal_valid;        /* f0 belongs to the current (t, x) */
+    int jac_next_valid;    /* so does jac_next: cleared with fsal_valid */
     long n_rejected;       /* statistics, for logging */
     long n_rhs;
     long n_jac;
@@ -61,8 +68,12 @@ void mf_ros_reset(mf_ros *s);
 mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, double *t,
                           double *x, double t_end, double rtol, double h_initial);
 
-/* Cubic Hermite interpolation of the last accepted step (from its end points and
-   their derivatives: 3rd order, C1 across steps), at time t in it. */
+/* The continuous extension of the last accepted step, at time t in it: a cubic in
+   the stages (3rd order; continuous, not C1, across steps). Unlike a Hermite cubic
+   through the end slopes it stays bounded on stiff components: an end point within
+   the tolerance delta of a slow manifold of eigenvalue -rho has the slope rho delta,
+   which Hermite turns into a bulge of h rho delta / 4, while every stage carries
+   (I / (h gamma) - J)^-1 and keeps it near delta. */
 void mf_ros_dense(const mf_ros *s, double t, double *x);
 
 #endif

@@ -387,7 +387,7 @@ static int group_still(const me_master *M, int group, const double *f)
 static int fall_asleep(me_master *M, double t)
 {
     const int *group = M->spec->rest_group;
-    int i, all = 1, candidate = 0;
+    int i, all = 1, candidate = 0, slept = 0;
     if (!group || M->n_x == 0 || M->next_defined) return 0;
     for (i = 0; i < M->n && !candidate; i++)
         candidate = !M->asleep[i] && group[i] >= 0 && group_still(M, group[i], NULL);
@@ -395,12 +395,14 @@ static int fall_asleep(me_master *M, double t)
     if (rhs(M, t, M->x, M->fd)) return -1;
     for (i = 0; i < M->n; i++) {
         if (!M->asleep[i] && group[i] >= 0 && group_still(M, group[i], M->fd)) {
-            M->asleep[i] = 1;
+            M->asleep[i] = slept = 1;
             if (M->spec->asleep_since) M->spec->asleep_since[i] = t;
         }
         all = all && M->asleep[i];
     }
     if (!all) M->set_valid = 0; /* the sleepers are skipped from now on */
+    /* and their rows of the Jacobian are zero, not those RODAS3 evaluated ahead */
+    if (!all && slept) mf_ros_restart(&M->ros);
     return all;
 }
 
