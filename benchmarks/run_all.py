@@ -317,8 +317,8 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
             "monolithic rows at tight tolerance compare with themselves.",
             "- `fmu_me_cvode` steps are not exposed by `fmpy.simulate_fmu` (null); its RHS "
             "count comes from fmpy's FMI call log. CasADi's counts are its integrator stats.",
-            "- Wall times are the best of up to five runs, repeated while they took under "
-            "0.3 s in all (a slower run is timed once), on a shared machine."]
+            "- Wall times are the best of the runs repeated while they took under 0.3 s in "
+            "all, at most 50 (a slower run is timed once), on a shared machine."]
     return "\n".join(out) + "\n"
 
 

@@ -12,17 +12,19 @@ from .runners import engine_missing, max_error
 from .scenes import FULL_TOLERANCES, QUICK_SKIP, QUICK_TOLERANCES, SCENES, expand
 
 FIELDS = ("scene", "method", "tolerance", "error", "wall_s", "rhs_evals", "steps")
-# each point is the best of up to 5 runs, repeated while they have taken less than this in
-# all: a slow method gets more than one try too, so that a shared machine's load does not
-# fall on the slow side of a ratio alone (a run over it is timed once)
+# each point is the best of the runs made while they have taken less than this in all, at
+# most _MAX_RUNS: a slow method gets more than one try too, and a sub-millisecond one
+# enough that a shared machine's busy moments (tens of per cent within a minute here) do
+# not fall on one side of a ratio alone (a run over it is timed once)
 _REPEAT_WITHIN_S = 0.3
+_MAX_RUNS = 50
 # a method whose run takes longer than this skips its tighter tolerances (they only cost more)
 BUDGET_S = {True: 2.0, False: 20.0}
 
 
 def _timed(fn, tol):
     best, spent, result = math.inf, 0.0, None
-    for _ in range(5):
+    for _ in range(_MAX_RUNS):
         started = time.perf_counter()
         result = fn(tol, False)
         wall = time.perf_counter() - started
