@@ -18,8 +18,10 @@ FIELDS = ("scene", "method", "tolerance", "error", "wall_s", "rhs_evals", "steps
 # not fall on one side of a ratio alone (a run over it is timed once)
 _REPEAT_WITHIN_S = 0.3
 _MAX_RUNS = 50
-# a method whose run takes longer than this skips its tighter tolerances (they only cost more)
-BUDGET_S = {True: 2.0, False: 20.0}
+# a method whose run takes longer than this skips its tighter tolerances (they only cost
+# more); --quick's leaves room for the Python monolithic master's 1.9-2.2 s on
+# moving_table, which one of the targets compares against
+BUDGET_S = {True: 3.0, False: 20.0}
 
 
 def _timed(fn, tol):
