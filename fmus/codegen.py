@@ -92,15 +92,17 @@ def computed_outputs(model: FlatModel) -> ca.SX:
 
 
 def directional_jacobian(model: FlatModel) -> ca.Function:
-    """``mf_dd``: the dense Jacobian of [xdot; computed outputs] w.r.t. [x; u].
+    """``mf_dd``: the Jacobian of [xdot; computed outputs] w.r.t. [x; u], its structural
+    nonzeros only (the runtime scatters them by ``mf_dd_sparsity_out`` into a dense
+    matrix whose zeros it never writes).
 
-    One dense matrix rather than forward/reverse seeds: n is small for every
-    component, and the runtime then serves directional (J s) and adjoint (s^T J)
-    products for any subset of value references from one evaluation.
+    One matrix rather than forward/reverse seeds: n is small for every component, and
+    the runtime then serves directional (J s) and adjoint (s^T J) products for any
+    subset of value references from one evaluation.
     """
     unknowns = ca.vertcat(model.xdot, computed_outputs(model))
     knowns = ca.vertcat(model.x, model.u)
-    jac = ca.densify(ca.jacobian(unknowns, knowns)) if knowns.numel() else ca.SX(unknowns.numel(), 0)
+    jac = ca.jacobian(unknowns, knowns) if knowns.numel() else ca.SX(unknowns.numel(), 0)
     return ca.Function("mf_dd", model.args, [jac], ["t", "x", "q", "u", "p"], ["dd"])
 
 
@@ -151,7 +153,8 @@ const mf_model MF_MODEL = {{
     {fn},
     {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"},
     {{mf_dd, mf_dd_work}},
-    {int(time_invariant)}
+    {int(time_invariant)},
+    mf_dd_sparsity_out
 }};
 """)
     return "\n".join(lines)

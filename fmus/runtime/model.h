@@ -75,6 +75,11 @@ typedef struct {
     /* 1: time appears in none of ode, out and zc, so setting the time alone leaves
        what they computed valid (an importer sets it at every evaluation) */
     int time_invariant;
+    /* the pattern of dd's result, which holds only its structural nonzeros: CasADi's
+       compressed column form (n_rows, n_cols, then colind[n_cols + 1] and row[nnz];
+       or n_rows, n_cols, 1 for a dense one). A dense dd of a joined model of 32 blocks
+       would be 100,000 mostly zero entries, written one by one in its C */
+    const mf_int *(*dd_sparsity)(mf_int i);
 } mf_model;
 
 extern const mf_model MF_MODEL;

@@ -76,7 +76,9 @@ struct mf_instance {
 
     /* scratch */
     double *ue, *x_new, *q_new, *x_tmp, *z_hit, *z_work, *g;
-    double *dd; /* the (n_x + n_y) x (n_x + n_u) Jacobian of mf_dd */
+    double *dd; /* the (n_x + n_y) x (n_x + n_u) Jacobian of mf_dd, dense; its structural
+                   zeros stay as calloc left them */
+    double *dd_nz; /* what mf_dd returns: the nonzeros, by the model's dd_sparsity */
     const double **arg;
     double **res;
     mf_int *iw;
@@ -453,6 +455,11 @@ static const char *model_defect(const mf_model *m)
     fs[4] = &m->check; n_out[4] = m->n_c;
     fs[5] = &m->jac; n_out[5] = m->n_x;
     fs[6] = &m->dd; n_out[6] = (m->n_x + m->n_y) * (m->n_x + m->n_u);
+    if (m->dd.eval) {
+        const mf_int *sp = m->dd_sparsity ? m->dd_sparsity(0) : NULL;
+        if (!sp || sp[0] != m->n_x + m->n_y || sp[1] != m->n_x + m->n_u)
+            return "the directional-derivative Jacobian's pattern is missing or of another size";
+    }
     for (i = 0; i < 7; i++) {
         if (n_out[i] > 0 && !fs[i]->eval) return "a model function with outputs is missing";
         if (fs[i]->eval && !fs[i]->work) return "a model function has no work-size function";
@@ -461,6 +468,33 @@ static const char *model_defect(const mf_model *m)
 }
 
 static double *dvec(int n) { return (double *)calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
+
+/* dd's pattern (model.h dd_sparsity): CasADi writes a dense one as (rows, cols, 1), and
+   a sparse one's column starts begin with 0 */
+static int dd_dense(const mf_int *sp) { return sp[2] == 1; }
+
+static int dd_nonzeros(const mf_model *m)
+{
+    const mf_int *sp;
+    if (!m->dd_sparsity) return 0;
+    sp = m->dd_sparsity(0);
+    return (int)(dd_dense(sp) ? sp[0] * sp[1] : sp[2 + sp[1]]);
+}
+
+/* dd's nonzeros into the dense matrix, at their places by the pattern */
+static void dd_scatter(mf_instance *I)
+{
+    const mf_int *sp = I->m->dd_sparsity(0), *colind = sp + 2, *row = sp + 3 + sp[1];
+    const size_t rows = (size_t)sp[0];
+    mf_int c, k;
+    if (dd_dense(sp)) {
+        memcpy(I->dd, I->dd_nz, rows * (size_t)sp[1] * sizeof(double));
+        return;
+    }
+    for (c = 0; c < sp[1]; c++)
+        for (k = colind[c]; k < colind[c + 1]; k++)
+            I->dd[(size_t)row[k] + (size_t)c * rows] = I->dd_nz[k];
+}
 
 mf_instance *mf_create(const mf_model *model, const char *fn, const char *instance_name,
                        const char *token, const char *resource_location, mf_interface iface,
@@ -523,8 +557,10 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->z_hit = dvec(model->n_z);
     I->g = dvec(model->n_c);
     I->dd = dvec((model->n_x + model->n_y) * (model->n_x + model->n_u));
+    I->dd_nz = dvec(dd_nonzeros(model));
     if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev || !I->ue ||
-        !I->x_new || !I->q_new || !I->x_tmp || !I->z_work || !I->z_hit || !I->g || !I->dd)
+        !I->x_new || !I->q_new || !I->x_tmp || !I->z_work || !I->z_hit || !I->g || !I->dd ||
+        !I->dd_nz)
         goto oom;
 
     /* one set of work buffers, large enough for every model function */
@@ -569,7 +605,7 @@ void mf_free(mf_instance *I)
     free(I->name);
     free(I->x); free(I->q); free(I->p); free(I->u); free(I->y); free(I->xdot); free(I->z);
     free(I->z_prev); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
-    free(I->z_work); free(I->z_hit); free(I->g); free(I->dd);
+    free(I->z_work); free(I->z_hit); free(I->g); free(I->dd); free(I->dd_nz);
     free((void *)I->arg); free(I->res); free(I->iw); free(I->w);
     free(I);
 }
@@ -1494,10 +1530,11 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
         }
     if ((m->n_x + m->n_y) * (m->n_x + m->n_u) > 0) {
         inputs_at(I, I->t, I->ue);
-        if (call(I, &m->dd, I->t, I->x, I->q, I->ue, I->dd, NULL)) {
+        if (call(I, &m->dd, I->t, I->x, I->q, I->ue, I->dd_nz, NULL)) {
             log_error(I, "%s: evaluation of the Jacobian failed at t = %.17g", fn, I->t);
             return MF_ERROR;
         }
+        dd_scatter(I);
     }
     for (i = 0; i < n_sensitivity; i++) sensitivity[i] = 0.0;
     for (i = 0; i < n_unknowns; i++) {
