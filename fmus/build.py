@@ -33,7 +33,7 @@ from components.component import Component
 from components.errors import ComponentError, MechfmuError, check_tolerance, writable_file
 from components.dae import flatten
 
-from .codegen import generate_c
+from .codegen import generate_c, time_invariant
 from .documentation import documentation_html
 from .model_description import FMI_VERSIONS, model_description
 from .recipe import RecipeStore, recipe
@@ -157,12 +157,11 @@ def model_facts(model) -> dict:
     while every state stands still), whether the model can end a run, and whether it is
     autonomous: time appears in none of its derivatives, outputs and indicators, so with
     its inputs held it stands still wherever its derivatives are zero."""
-    explicit_time = ca.depends_on(ca.vertcat(model.xdot, model.y, model.z), model.t)
     return {"chained_inputs": {v.name: model.inputs[v.derivative_input].name
                                for v in model.inputs if v.derivative_input is not None},
             "indicators_follow_time": bool(model.z.numel()) and bool(ca.depends_on(model.z, model.t)),
             "can_terminate": model.terminate is not None,
-            "autonomous": not bool(explicit_time)}
+            "autonomous": time_invariant(model)}
 
 
 def recipes() -> RecipeStore:

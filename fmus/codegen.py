@@ -91,6 +91,13 @@ def computed_outputs(model: FlatModel) -> ca.SX:
     return ca.vertcat(model.y, model.z)
 
 
+def time_invariant(model: FlatModel) -> bool:
+    """Time appears in none of the derivatives, outputs and event indicators: with its
+    inputs held, the model stands still wherever its derivatives are zero, and setting
+    the time alone changes nothing it computes."""
+    return not ca.depends_on(ca.vertcat(model.xdot, computed_outputs(model)), model.t)
+
+
 def directional_jacobian(model: FlatModel) -> ca.Function:
     """``mf_dd``: the Jacobian of [xdot; computed outputs] w.r.t. [x; u], its structural
     nonzeros only (the runtime scatters them by ``mf_dd_sparsity_out`` into a dense
@@ -142,8 +149,6 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
         lines.append('    {"", 0},')
     lines.append("};")
     fn = ", ".join(f"{{mf_{k}, mf_{k}_work}}" for k in FUNCTION_ORDER)
-    time_invariant = not ca.depends_on(
-        ca.vertcat(model.xdot, computed_outputs(model), model.z), model.t)
     lines.append(f"""
 const mf_model MF_MODEL = {{
     {_c_string(model_name)}, {_c_string(token)},
@@ -153,7 +158,7 @@ const mf_model MF_MODEL = {{
     {fn},
     {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"},
     {{mf_dd, mf_dd_work}},
-    {int(time_invariant)},
+    {int(time_invariant(model))},
     mf_dd_sparsity_out
 }};
 """)
