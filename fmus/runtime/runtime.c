@@ -105,8 +105,11 @@ static void emit(const mf_host *host, const char *name, mf_status status, const 
 
 #if defined(__GNUC__)
 #define PRINTF_LIKE(a, b) __attribute__((format(printf, a, b)))
+/* an error path: out of line, so that the checks before it inline into their callers */
+#define MF_COLD __attribute__((cold, noinline))
 #else
 #define PRINTF_LIKE(a, b)
+#define MF_COLD
 #endif
 
 static void log_error(const mf_instance *I, const char *fmt, ...) PRINTF_LIKE(2, 3);
@@ -171,14 +174,16 @@ static int allowed(const mf_instance *I, const char *fn, int mask, int progress)
     return 1;
 }
 
+static MF_COLD int null_array(const mf_instance *I, const char *fn, const char *what)
+{
+    log_error(I, "%s: argument '%s' is NULL", fn, what);
+    return 0;
+}
+
 static int array_ok(const mf_instance *I, const char *fn, const void *a, size_t n,
                     const char *what)
 {
-    if (n > 0 && !a) {
-        log_error(I, "%s: argument '%s' is NULL", fn, what);
-        return 0;
-    }
-    return 1;
+    return n == 0 || a ? 1 : null_array(I, fn, what);
 }
 
 static int size_ok(const mf_instance *I, const char *fn, size_t got, int expected,
@@ -224,29 +229,31 @@ static void solvers_reset(mf_instance *I)
 }
 
 /* Inputs at time t. Co-Simulation extrapolates each input by its Taylor chain
-   (s -> v -> a) from the base time t_u; Model Exchange uses them as set. */
-static void inputs_at(const mf_instance *I, double t, double *ue)
+   (s -> v -> a) from the base time t_u, into ue; Model Exchange uses them as set, with
+   no copy (the masters of joined models read and set values tens of times per
+   right-hand side). */
+static const double *inputs_at(const mf_instance *I, double t)
 {
     const mf_model *m = I->m;
     double tau = t - I->t_u;
     int i;
+    if (I->iface != MF_CO_SIMULATION || tau == 0.0 || !m->input_derivative) return I->u;
     for (i = 0; i < m->n_u; i++) {
         double val = I->u[i], term = 1.0;
-        int d = m->input_derivative ? m->input_derivative[i] : -1;
+        int d = m->input_derivative[i];
         int order = 1;
-        if (I->iface == MF_CO_SIMULATION && tau != 0.0) {
-            /* a chain can visit each input at most once; longer means a cycle */
-            while (d >= 0 && d < m->n_u && order <= m->n_u) {
-                term *= tau / order;
-                /* a zero rate adds nothing, also when a huge step has made tau^n / n!
-                   infinite (0 * inf would be NaN) */
-                if (I->u[d] != 0.0) val += I->u[d] * term;
-                d = m->input_derivative[d];
-                order++;
-            }
+        /* a chain can visit each input at most once; longer means a cycle */
+        while (d >= 0 && d < m->n_u && order <= m->n_u) {
+            term *= tau / order;
+            /* a zero rate adds nothing, also when a huge step has made tau^n / n!
+               infinite (0 * inf would be NaN) */
+            if (I->u[d] != 0.0) val += I->u[d] * term;
+            d = m->input_derivative[d];
+            order++;
         }
-        ue[i] = val;
+        I->ue[i] = val;
     }
+    return I->ue;
 }
 
 static int call(mf_instance *I, const mf_function *f, double t, const double *x, const double *q,
@@ -274,8 +281,7 @@ static int all_finite(const double *v, int n)
 static int update_xdot(mf_instance *I, const char *fn)
 {
     if (I->xdot_valid) return 1;
-    inputs_at(I, I->t, I->ue);
-    if (call(I, &I->m->ode, I->t, I->x, I->q, I->ue, I->xdot, NULL)) {
+    if (call(I, &I->m->ode, I->t, I->x, I->q, inputs_at(I, I->t), I->xdot, NULL)) {
         log_error(I, "%s: evaluation of the state derivatives failed at t = %.17g", fn, I->t);
         return 0;
     }
@@ -286,8 +292,7 @@ static int update_xdot(mf_instance *I, const char *fn)
 static int update_y(mf_instance *I, const char *fn)
 {
     if (I->y_valid) return 1;
-    inputs_at(I, I->t, I->ue);
-    if (call(I, &I->m->out, I->t, I->x, I->q, I->ue, I->y, NULL)) {
+    if (call(I, &I->m->out, I->t, I->x, I->q, inputs_at(I, I->t), I->y, NULL)) {
         log_error(I, "%s: evaluation of the outputs failed at t = %.17g", fn, I->t);
         return 0;
     }
@@ -300,8 +305,7 @@ static int update_y(mf_instance *I, const char *fn)
 static int update_z(mf_instance *I, const char *fn)
 {
     if (I->z_valid) return 1;
-    inputs_at(I, I->t, I->ue);
-    if (call(I, &I->m->zc, I->t, I->x, I->q, I->ue, I->z, NULL)) {
+    if (call(I, &I->m->zc, I->t, I->x, I->q, inputs_at(I, I->t), I->z, NULL)) {
         log_error(I, "%s: evaluation of the event indicators failed at t = %.17g", fn, I->t);
         return 0;
     }
@@ -328,8 +332,7 @@ static mf_status event_iteration(mf_instance *I, const char *fn, int *x_changed)
 
     for (it = 0; it < MAX_EVENT_ITERATIONS; it++) {
         int same = 1;
-        inputs_at(I, I->t, I->ue);
-        if (call(I, &m->jump, I->t, I->x, I->q, I->ue, I->x_new, I->q_new)) {
+        if (call(I, &m->jump, I->t, I->x, I->q, inputs_at(I, I->t), I->x_new, I->q_new)) {
             log_error(I, "%s: evaluation of the event function failed at t = %.17g", fn, I->t);
             return MF_ERROR;
         }
@@ -737,23 +740,35 @@ mf_status mf_reset(mf_instance *I, const char *fn)
 /* ------------------------------------------------------------------------ */
 /* variables                                                                 */
 
-static const mf_variable *lookup(const mf_instance *I, const char *fn, uint32_t vr, int want_int)
+/* The error path of lookup, kept out of line: the look-up itself is on the path of
+   every get and set, which the masters of joined models make tens of times per
+   right-hand side. */
+static MF_COLD const mf_variable *bad_reference(const mf_instance *I, const char *fn,
+                                                 uint32_t vr, int want_int)
 {
     const mf_variable *v;
+    const char *has, *asked;
     if (vr >= (uint32_t)I->m->n_variables) {
         log_error(I, "%s: unknown value reference %lu (this model has 0 to %d)", fn,
                   (unsigned long)vr, I->m->n_variables - 1);
         return NULL;
     }
     v = &I->m->variables[vr];
-    if ((v->is_integer != 0) != (want_int != 0)) {
-        const char *has = v->is_integer ? I->host.int_type : I->host.float_type;
-        const char *asked = want_int ? I->host.int_type : I->host.float_type;
-        log_error(I, "%s: variable '%s' (value reference %lu) has type %s, not %s", fn, v->name,
-                  (unsigned long)vr, has ? has : "?", asked ? asked : "?");
-        return NULL;
+    has = v->is_integer ? I->host.int_type : I->host.float_type;
+    asked = want_int ? I->host.int_type : I->host.float_type;
+    log_error(I, "%s: variable '%s' (value reference %lu) has type %s, not %s", fn, v->name,
+              (unsigned long)vr, has ? has : "?", asked ? asked : "?");
+    return NULL;
+}
+
+static const mf_variable *lookup(const mf_instance *I, const char *fn, uint32_t vr, int want_int)
+{
+    const mf_variable *v;
+    if (vr < (uint32_t)I->m->n_variables) {
+        v = &I->m->variables[vr];
+        if ((v->is_integer != 0) == (want_int != 0)) return v;
     }
-    return v;
+    return bad_reference(I, fn, vr, want_int);
 }
 
 static int get_value(mf_instance *I, const char *fn, const mf_variable *v, double *out)
@@ -766,54 +781,65 @@ static int get_value(mf_instance *I, const char *fn, const mf_variable *v, doubl
     case MF_DISCRETE: *out = I->q[v->index]; return 1;
     case MF_RUNTIME: *out = I->method; return 1;
     case MF_DERIVATIVE:
-        if (!update_xdot(I, fn)) return 0;
+        if (!I->xdot_valid && !update_xdot(I, fn)) return 0;
         *out = I->xdot[v->index];
         return 1;
     case MF_COMPUTED:
-        if (!update_y(I, fn)) return 0;
+        if (!I->y_valid && !update_y(I, fn)) return 0;
         *out = I->y[v->index];
         return 1;
     }
     return 0;
 }
 
-static int settable(mf_instance *I, const char *fn, const mf_variable *v, uint32_t vr, double val)
+/* The phases in which a variable of this kind may be set; 0: never (computed). */
+static int settable_phases(int kind)
 {
-    int mask;
-    const char *when;
-    switch (v->kind) {
+    switch (kind) {
     case MF_PARAMETER:
     case MF_STATE:
     case MF_DISCRETE:
-    case MF_RUNTIME:
-        mask = PH_INSTANTIATED | PH_INIT;
-        when = "only before initialisation ends (Instantiated state or Initialization Mode)";
-        break;
-    case MF_INPUT:
-        mask = PH_ANY & ~PH_TERMINATED;
-        when = "at any time before termination";
-        break;
-    default:
+    case MF_RUNTIME: return PH_INSTANTIATED | PH_INIT;
+    case MF_INPUT: return PH_ANY & ~PH_TERMINATED;
+    default: return 0;
+    }
+}
+
+static int valid_method(double val)
+{
+    return val == MF_METHOD_EXPLICIT || val == MF_METHOD_IMPLICIT || val == MF_METHOD_AUTO;
+}
+
+/* Why a value cannot be set (settable said no). */
+static MF_COLD int not_settable(mf_instance *I, const char *fn, const mf_variable *v,
+                                uint32_t vr, double val)
+{
+    int mask = settable_phases(v->kind);
+    if (!mask) {
         log_error(I, "%s: variable '%s' (value reference %lu) is computed by the model and "
                      "cannot be set", fn, v->name, (unsigned long)vr);
-        return 0;
-    }
-    if (!(I->phase & mask)) {
-        log_error(I, "%s: variable '%s' can be set %s, not in %s", fn, v->name, when,
+    } else if (!(I->phase & mask)) {
+        log_error(I, "%s: variable '%s' can be set %s, not in %s", fn, v->name,
+                  v->kind == MF_INPUT
+                      ? "at any time before termination"
+                      : "only before initialisation ends (Instantiated state or "
+                        "Initialization Mode)",
                   phase_name(I->phase));
-        return 0;
-    }
-    if (!isfinite(val)) {
+    } else if (!isfinite(val)) {
         log_error(I, "%s: value %g for variable '%s' is not finite; not set", fn, val, v->name);
-        return 0;
-    }
-    if (v->kind == MF_RUNTIME && !(val == MF_METHOD_EXPLICIT || val == MF_METHOD_IMPLICIT
-                                   || val == MF_METHOD_AUTO)) {
+    } else {
         log_error(I, "%s: '%s' must be 0 (DOPRI5, explicit), 1 (RODAS3, implicit) or 2 "
                      "(automatic: switches between them on stiffness), got %g", fn, v->name, val);
-        return 0;
     }
-    return 1;
+    return 0;
+}
+
+static int settable(mf_instance *I, const char *fn, const mf_variable *v, uint32_t vr, double val)
+{
+    if ((I->phase & settable_phases(v->kind)) && isfinite(val) &&
+        (v->kind != MF_RUNTIME || valid_method(val)))
+        return 1;
+    return not_settable(I, fn, v, vr, val);
 }
 
 static void store_value(mf_instance *I, const mf_variable *v, double val)
@@ -833,8 +859,8 @@ static void store_value(mf_instance *I, const mf_variable *v, double val)
         if (I->iface == MF_CO_SIMULATION && I->t != I->t_u) {
             /* move the extrapolation base to now, so that inputs not set again
                continue from where their extrapolation has brought them */
-            inputs_at(I, I->t, I->ue);
-            memcpy(I->u, I->ue, (size_t)I->m->n_u * sizeof(double));
+            const double *moved = inputs_at(I, I->t);
+            if (moved != I->u) memcpy(I->u, moved, (size_t)I->m->n_u * sizeof(double));
             I->t_u = I->t;
         }
         /* an input set to the value it has leaves every cached result valid; masters
@@ -848,17 +874,29 @@ static void store_value(mf_instance *I, const mf_variable *v, double val)
     invalidate(I);
 }
 
-static int vr_args_ok(const mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
-                      const void *values, size_t n_values)
+static MF_COLD int bad_vr_args(const mf_instance *I, const char *fn, const uint32_t vr[],
+                               size_t n_vr, const void *values, size_t n_values)
 {
     if (!array_ok(I, fn, vr, n_vr, "valueReferences")) return 0;
     if (!array_ok(I, fn, values, n_values, "values")) return 0;
-    if (n_vr != n_values) {
-        log_error(I, "%s: nValueReferences (%lu) and nValues (%lu) differ; every variable "
-                     "here is a scalar", fn, (unsigned long)n_vr, (unsigned long)n_values);
-        return 0;
-    }
-    return 1;
+    log_error(I, "%s: nValueReferences (%lu) and nValues (%lu) differ; every variable "
+                 "here is a scalar", fn, (unsigned long)n_vr, (unsigned long)n_values);
+    return 0;
+}
+
+static int vr_args_ok(const mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
+                      const void *values, size_t n_values)
+{
+    if (n_vr == n_values && (n_vr == 0 || (vr && values))) return 1;
+    return bad_vr_args(I, fn, vr, n_vr, values, n_values);
+}
+
+static MF_COLD mf_status not_finite_read(const mf_instance *I, const char *fn,
+                                         const mf_variable *v, double value)
+{
+    log_error(I, "%s: '%s' is not finite (%g) at t = %.17g; the model cannot be evaluated "
+                 "here", fn, v->name, value, I->t);
+    return MF_ERROR;
 }
 
 mf_status mf_get_float(mf_instance *I, const char *fn, const uint32_t vr[], size_t n_vr,
@@ -870,12 +908,8 @@ mf_status mf_get_float(mf_instance *I, const char *fn, const uint32_t vr[], size
     for (k = 0; k < n_vr; k++) {
         const mf_variable *v = lookup(I, fn, vr[k], 0);
         if (!v || !get_value(I, fn, v, &values[k])) return MF_ERROR;
-        if (!isfinite(values[k])) {
-            /* a value read with status OK is a number the importer can use */
-            log_error(I, "%s: '%s' is not finite (%g) at t = %.17g; the model cannot be "
-                         "evaluated here", fn, v->name, values[k], I->t);
-            return MF_ERROR;
-        }
+        /* a value read with status OK is a number the importer can use */
+        if (!isfinite(values[k])) return not_finite_read(I, fn, v, values[k]);
     }
     return MF_OK;
 }
@@ -1145,15 +1179,13 @@ mf_status mf_enter_step_mode(mf_instance *I, const char *fn)
 static int rhs(void *ctx, double t, const double *x, double *xdot)
 {
     mf_instance *I = (mf_instance *)ctx;
-    inputs_at(I, t, I->ue);
-    return call(I, &I->m->ode, t, x, I->q, I->ue, xdot, NULL);
+    return call(I, &I->m->ode, t, x, I->q, inputs_at(I, t), xdot, NULL);
 }
 
 static int jacobian(void *ctx, double t, const double *x, double *jac)
 {
     mf_instance *I = (mf_instance *)ctx;
-    inputs_at(I, t, I->ue);
-    return call(I, &I->m->jac, t, x, I->q, I->ue, jac, NULL);
+    return call(I, &I->m->jac, t, x, I->q, inputs_at(I, t), jac, NULL);
 }
 
 /* The selected method's step, in the explicit solver's result codes (the two
@@ -1223,8 +1255,7 @@ static int z_inside(void *ctx, double t, double *z)
 {
     mf_instance *I = (mf_instance *)ctx;
     solver_dense(I, t, I->x_tmp);
-    inputs_at(I, t, I->ue);
-    return call(I, &I->m->zc, t, I->x_tmp, I->q, I->ue, z, NULL);
+    return call(I, &I->m->zc, t, I->x_tmp, I->q, inputs_at(I, t), z, NULL);
 }
 
 /* The solver gave up because the state derivatives were not finite: say whether they
@@ -1529,8 +1560,7 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
             return MF_ERROR;
         }
     if ((m->n_x + m->n_y) * (m->n_x + m->n_u) > 0) {
-        inputs_at(I, I->t, I->ue);
-        if (call(I, &m->dd, I->t, I->x, I->q, I->ue, I->dd_nz, NULL)) {
+        if (call(I, &m->dd, I->t, I->x, I->q, inputs_at(I, I->t), I->dd_nz, NULL)) {
             log_error(I, "%s: evaluation of the Jacobian failed at t = %.17g", fn, I->t);
             return MF_ERROR;
         }
