@@ -211,7 +211,9 @@ def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> 
                description=model.component.describe(), generationTool=GENERATION_TOOL,
                variableNamingConvention="structured",
                numberOfEventIndicators=len(structure.indicators)) + ">",
-           "  <ModelExchange " + xml_attributes(**common) + (f">{sources}ModelExchange>" if sources else "/>"),
+           # fmi2CompletedIntegratorStep does nothing here: events come from the indicators
+           "  <ModelExchange " + xml_attributes(**common, completedIntegratorStepNotNeeded="true")
+           + (f">{sources}ModelExchange>" if sources else "/>"),
            # inputs are extrapolated inside the step from the flange's own velocity and
            # acceleration inputs, not from fmi2SetRealInputDerivatives
            "  <CoSimulation " + xml_attributes(**common, canHandleVariableCommunicationStepSize="true",

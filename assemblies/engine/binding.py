@@ -38,7 +38,8 @@ class InstanceSpec(C.Structure):  # eng_instance_spec
                 ("int_start_values", _P(C.c_int32)),
                 ("n_event_outputs", C.c_int), ("event_output_vr", _P(C.c_uint32)),
                 ("event_output_is_int", _P(C.c_int)),
-                ("state_vr", _P(C.c_uint32)), ("derivative_vr", _P(C.c_uint32))]
+                ("state_vr", _P(C.c_uint32)), ("derivative_vr", _P(C.c_uint32)),
+                ("completed_step_not_needed", C.c_int)]
 
 
 class EventGroup(C.Structure):  # eng_event_group
@@ -72,7 +73,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("event_subsamples", C.c_int), ("max_step", C.c_double),
                 ("progress", PROGRESS_FN), ("progress_ctx", C.c_void_p),
                 ("rest_group", _P(C.c_int)), ("asleep_since", _P(C.c_double)),
-                ("continuous", _P(C.c_int)), ("column_state", _P(C.c_int))]
+                ("continuous", _P(C.c_int)), ("column_state", _P(C.c_int)),
+                ("row_coupling", _P(C.c_int))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1
@@ -106,6 +108,7 @@ def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict
     s.can_get_set_state = int(fmu.can_get_set_state)
     s.provides_directional_derivative = int(fmu.me_directional_derivative if model_exchange
                                             else fmu.provides_directional_derivative)
+    s.completed_step_not_needed = int(model_exchange and fmu.completed_step_not_needed)
     s.n_float_starts = len(floats)
     s.float_start_vr = keep.array(C.c_uint32, [vr for vr, _ in floats])
     s.float_start_values = keep.array(C.c_double, [v for _, v in floats])

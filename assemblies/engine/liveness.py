@@ -8,17 +8,24 @@ may read any input). In a chain of flanges that is the reaction forces sent back
 position sources and the accelerations sent to springs: a third of two_block_belt's
 couplings, and a second evaluation of each block's outputs per right-hand side.
 
+An output row needs less still: the recorded columns and what they depend on
+(row_couplings). In two_block_belt the blocks' positions need the belts' travel and
+nothing of the springs, the walls or the forces.
+
 The dependencies come from each FMU's ModelStructure; one that does not list them
 depends on every input, so a foreign FMU loses nothing.
 """
 from __future__ import annotations
 
 
-def needed_inputs(fmus: dict, couplings, record) -> dict[str, set]:
-    """Per instance, the inputs that its derivatives, indicators and the recorded
-    columns (`record`: (instance, variable) pairs) depend on, through the couplings."""
+def needed_inputs(fmus: dict, couplings, record, dynamics: bool = True) -> dict[str, set]:
+    """Per instance, the inputs that its derivatives, indicators (unless not
+    `dynamics`) and the recorded columns (`record`: (instance, variable) pairs) depend
+    on, through the couplings."""
     need = {name: set() for name in fmus}
     for name, fmu in fmus.items():
+        if not dynamics:
+            break
         if fmu.n_states:
             need[name] |= fmu.derivatives_depend
         if fmu.n_event_indicators:
@@ -42,6 +49,13 @@ def continuous_couplings(fmus: dict, couplings, record) -> list[bool]:
     """For each of `couplings`, in their order: whether the evaluation between events
     needs it (module doc)."""
     need = needed_inputs(fmus, couplings, record)
+    return [c.target[1] in need[c.target[0]] for c in couplings]
+
+
+def row_couplings(fmus: dict, couplings, record) -> list[bool]:
+    """For each of `couplings`, in their order: whether the recorded columns depend on
+    it (module doc)."""
+    need = needed_inputs(fmus, couplings, record, dynamics=False)
     return [c.target[1] in need[c.target[0]] for c in couplings]
 
 

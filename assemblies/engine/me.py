@@ -30,7 +30,7 @@ from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
-from .liveness import continuous_couplings
+from .liveness import continuous_couplings, row_couplings
 from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
                       record_columns, rest_groups, structure_key)
 
@@ -47,11 +47,13 @@ class _Plan:
     Built once and reused, so that a repeated run costs its C call and little else;
     only the start values are refilled per run (parameter studies change them)."""
 
-    def __init__(self, instances, couplings, columns, groups, continuous=None):
+    def __init__(self, instances, couplings, columns, groups, continuous=None, rows=None):
         """instances: (name, PreparedFmu, start keys); couplings: ordered assembly
         Couplings; columns: (instance index, variable); groups: (instance index, first
         indicator, count, outputs); continuous: per coupling, whether the evaluation
-        between events needs it (liveness.continuous_couplings; None: all)."""
+        between events needs it (liveness.continuous_couplings; None: all); rows: per
+        coupling, whether the recorded columns need it (liveness.row_couplings; None:
+        an output row sets what the evaluation between events does)."""
         self.lock = threading.Lock()  # a plan's start values are one run's at a time
         self.capped = True  # steps no longer than the output interval (step_limit_needed)
         self.rest_group = None  # eng_me_spec.rest_group (prepare.rest_groups); None: no rest
@@ -85,6 +87,7 @@ class _Plan:
             B.Coupling(variable(*c.source), variable(*c.target), c.gain) for c in couplings])
         self.continuous = None if continuous is None else keep.array(
             C.c_int, [int(needed) for needed in continuous])
+        self.rows = None if rows is None else keep.array(C.c_int, [int(needed) for needed in rows])
         self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
                          in zip(couplings, continuous or []) if not needed]
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
@@ -139,7 +142,8 @@ class _Plan:
                         self.group_array, len(times), pointers[0], pointers[1], stop_time,
                         tolerance, METHODS[method], event_subsamples,
                         step if self.capped else 0.0, prog.callback, None,
-                        self.rest_group, pointers[2], self.continuous, self.column_state)
+                        self.rest_group, pointers[2], self.continuous, self.column_state,
+                        self.rows)
         stats = B.Stats()
         started = wallclock.perf_counter()
         with prog.sigint():
@@ -273,8 +277,8 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
         ordered = coupling_order(couplings, fmus)
-        plan = _Plan(keys, ordered, columns, groups,
-                     continuous_couplings(fmus, ordered, recorded))
+        plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
+                     row_couplings(fmus, ordered, recorded))
         plan.capped = step_limit_needed(assembly)
         plan.set_rest_groups(rest_groups(names, couplings, fmus))
         return plan

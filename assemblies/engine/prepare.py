@@ -62,6 +62,8 @@ class PreparedFmu:
     derivatives: list = field(default_factory=list)  # of `states`, in their order
     chained: dict = field(default_factory=dict)    # input the FMU extrapolates -> its derivative input
     autonomous: bool = False  # ours, with no explicit time (fmus.build.model_facts)
+    # Model Exchange: the FMU needs no fmiCompletedIntegratorStep after each step
+    completed_step_not_needed: bool = False
 
     @property
     def model_identifier(self) -> str:
@@ -114,6 +116,8 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
         cs_identifier=cs.modelIdentifier if cs else None,
         n_states=len(md.derivatives), n_event_indicators=md.numberOfEventIndicators or 0,
         can_get_set_state=bool(cs and cs.canGetAndSetFMUstate),
+        # fmpy reads FMI 2's completedIntegratorStepNotNeeded into this flag too
+        completed_step_not_needed=bool(me and not me.needsCompletedIntegratorStep),
         **_directional_derivatives(md, unzip_dir))
     p.variables = {v.name: (v.valueReference, v.type in ("Int32", "Integer"))
                    for v in md.modelVariables}
@@ -162,7 +166,7 @@ def _directional_derivatives(md, unzip_dir: str) -> dict:
 
 
 #: what a summary JSON holds; one written with other fields is read again from its FMU
-_SUMMARY_VERSION = 2
+_SUMMARY_VERSION = 3
 
 
 def _prepared_in_cache(path: Path) -> PreparedFmu:

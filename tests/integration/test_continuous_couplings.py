@@ -11,7 +11,8 @@ import pytest
 
 from assemblies.engine import liveness
 from assemblies.engine.me import simulate_me
-from assemblies.engine.prepare import prepared
+from assemblies.engine.prepare import prepared, record_columns
+from assemblies.masters.me import coupling_order
 from assemblies.pruning import prune_unrecorded
 from assemblies.scenes import scene
 from components import SpringBlock
@@ -79,3 +80,27 @@ def test_unlisted_dependencies_mean_every_input(fmi_version):
     expected = set(fmu.inputs) if fmi_version == 2 else {"flange_a.s", "flange_a.v"}
     assert fmu.indicators_depend == expected
     assert liveness.needed_inputs({"block": fmu}, [], [])["block"] == expected
+
+
+def test_an_output_row_sets_only_what_the_recorded_columns_read(monkeypatch):
+    """The blocks' positions depend on their own states and on the travel of their
+    belts, their velocities on the belt (relative) on their states alone: a row
+    recording them sets the two travel couplings,
+    on the four instances involved, and its values equal, to the last bit, those of a
+    row that sets the whole assembly first. (The scene's own record, with the friction
+    and spring forces, needs every coupling the integrator does.)"""
+    asm, record = _belt(["block1.s", "block1.v", "block2.s"])
+    couplings = asm.couplings()  # resolves the causality profiles, which shape the FMUs
+    fmus = {name: prepared(c) for name, c in asm.components.items()}
+    ordered = coupling_order(couplings, fmus)
+    rows = liveness.row_couplings(fmus, ordered, record_columns(fmus, record))
+    assert sorted(".".join(c.target) for c, needed in zip(ordered, rows) if needed) == \
+        ["block1.support.s", "block2.support.s"]
+    partial = simulate_me(asm, STOP, 0.1, 1e-8, record=record)
+    monkeypatch.setattr("assemblies.engine.me.row_couplings", lambda *args: None)
+    asm.name = "two_block_belt_whole_rows"  # another plan, not the memoised one
+    whole = simulate_me(asm, STOP, 0.1, 1e-8, record=record)
+    assert partial.settings["steps"] == whole.settings["steps"]
+    for column in record:
+        assert np.ptp(whole[column]) > 0.1, column  # the blocks move
+        np.testing.assert_array_equal(partial[column], whole[column], err_msg=column)

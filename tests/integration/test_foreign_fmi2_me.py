@@ -34,6 +34,7 @@ from scipy.linalg import expm
 
 from assemblies import FMU, Assembly, AssemblyError, FmuError, cosimulate, simulate_me
 from assemblies import simulate_monolithic
+from assemblies.engine.prepare import prepared, prepared_path
 from assemblies.experiment import FixedStepFallback
 from assemblies.masters.cosim import cosimulate as fmpy_cosimulate
 from assemblies.masters.me import simulate_me as fmpy_simulate_me
@@ -290,6 +291,16 @@ def test_modes_that_cannot_run_a_foreign_fmu_refuse_it_in_one_line(mass_damper):
 
 
 # --- what the loader makes of OpenModelica's model description ----------------------------------
+@pytest.mark.parametrize("fmi_version", [2, 3])
+def test_the_engine_completes_each_step_for_openmodelicas_fmu_alone(mass_damper, fmi_version):
+    """OpenModelica's FMU does not say completedIntegratorStepNotNeeded: the engine calls
+    its fmi2CompletedIntegratorStep after every step, at the step's end (the runs above
+    check what it computes there). Ours say they need none (FMI 2's attribute; FMI 3's
+    needsCompletedIntegratorStep left false): their events come from the indicators."""
+    assert not prepared_path(mass_damper).completed_step_not_needed
+    assert prepared(SpringBlock(), fmi_version).completed_step_not_needed
+
+
 def test_loader_reads_openmodelicas_description(mass_damper):
     """Aliases, calculatedParameters, Enumeration and Boolean variables and der(...) locals
     are no ports; the parameters carry the FMU's values, units and bounds (and are those

@@ -55,6 +55,10 @@ typedef struct {
        states), for the Jacobian from directional derivatives; NULL: not known */
     const uint32_t *state_vr;
     const uint32_t *derivative_vr;
+    /* Model Exchange: the FMU says it needs no fmiCompletedIntegratorStep (FMI 2's
+       completedIntegratorStepNotNeeded, FMI 3's needsCompletedIntegratorStep = false);
+       0 (the safe default): it is called after every step */
+    int completed_step_not_needed;
 } eng_instance_spec;
 
 /* Outputs recorded at the events of some indicators of one instance: one event table
@@ -132,6 +136,10 @@ typedef struct {
        else -1. Rows of states alone are written from the solution, without setting
        the instances to each output point. NULL: every column is read from its FMU. */
     const int *column_state;
+    /* Per coupling, 1 where the recorded columns depend on it (a subset of
+       `continuous`): an output row sets only these and the instances they and the
+       columns read. NULL: a row sets every instance and the couplings of `continuous`. */
+    const int *row_coupling;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

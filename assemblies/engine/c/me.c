@@ -29,6 +29,16 @@
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_EVENTS 1000000L
 
+/* The couplings one kind of evaluation sets, in order (plan_couplings): live[p],
+   p < n_live; the arrays below are by p. */
+typedef struct {
+    int *live, n_live;
+    int *segment_end;     /* couplings p .. segment_end[p] are read before any is set */
+    int *run_end;         /* couplings p .. run_end[p] read Float64 outputs of one source */
+    int *write_order;     /* a segment's couplings by target, so one call sets a target's inputs */
+    uint32_t *source_vr;  /* source value references */
+} coupling_plan;
+
 typedef struct {
     const eng_me_spec *spec;
     eng_stats *stats;
@@ -42,14 +52,12 @@ typedef struct {
     double *values, *values_new; /* coupling values, to see the event iteration settle */
     double *sent;         /* the value each coupling last set on its target... */
     int sent_valid;       /* ...valid while nothing else set the inputs */
-    /* couple() sets the couplings the evaluation between events needs
-       (eng_me_spec.continuous): live[p], p < n_live; the arrays below are by p */
-    int *live, n_live;
-    int *segment_end;     /* couplings p .. segment_end[p] are read before any is set */
-    int *run_end;         /* couplings p .. run_end[p] read Float64 outputs of one source */
-    int *write_order;     /* a segment's couplings by target, so one call sets a target's inputs */
-    uint32_t *source_vr;  /* source value references */
-    double *read;         /* source values read in one call per run */
+    /* what the evaluation between events needs (eng_me_spec.continuous), and what the
+       recorded columns alone need (eng_me_spec.row_coupling): a row sets only the
+       row_instance[i] and the couplings of `rows`, when rows_partial */
+    coupling_plan between, rows;
+    int *row_instance, rows_partial;
+    double *read;         /* source values read in one call per run, by plan index */
     uint32_t *pending_vr; /* inputs of one target waiting to be set in one call */
     double *pending_value;
     double *row;                 /* an event row */
@@ -108,34 +116,35 @@ static int flush(me_master *M, int target, int *n_pending, double t)
     return 0;
 }
 
-/* The couplings in continuous time, cheaply. They come in segments (see allocate):
+/* The couplings of plan P in continuous time, cheaply. They come in segments
+   (plan_couplings):
    within one, no coupling reads an instance that another one in it sets, so all of a
    segment's outputs are read first and its inputs set afterwards. Each FMU thus
    evaluates its outputs once per segment instead of once per read after a set (an FMU
    drops what it computed whenever an input changes). The outputs of one source are
    read in one call, the changed inputs of one target are set in one call, and an input
    whose value did not change since it was last set is not set again (an FMU keeps a
-   value until it is set: exact, and the FMU keeps what it computed from it). Only the
-   couplings the evaluation between events needs are set here (plan_couplings); the
-   event iteration propagates them all. */
-static int couple(me_master *M, double t)
+   value until it is set: exact, and the FMU keeps what it computed from it). A plan
+   holds only the couplings some evaluation between events needs; the event iteration
+   propagates them all. */
+static int couple(me_master *M, const coupling_plan *P, double t)
 {
     const eng_coupling *c = M->spec->couplings;
-    int k, p, j, w, n = M->n_live;
-    for (k = 0; k < n; k = M->segment_end[k] + 1) {
-        int end = M->segment_end[k], target = -1, n_pending = 0;
-        for (p = k; p <= end; p = M->run_end[p] + 1) {
-            const eng_variable *source = &c[M->live[p]].source;
+    int k, p, j, w, n = P->n_live;
+    for (k = 0; k < n; k = P->segment_end[k] + 1) {
+        int end = P->segment_end[k], target = -1, n_pending = 0;
+        for (p = k; p <= end; p = P->run_end[p] + 1) {
+            const eng_variable *source = &c[P->live[p]].source;
             int rc = source->is_int
                          ? eng_get_value(M->fmus[source->instance], source->vr, 1, &M->read[p])
-                         : fmu_get_float64(M->fmus[source->instance], M->source_vr + p,
-                                           (size_t)(M->run_end[p] - p + 1), M->read + p);
+                         : fmu_get_float64(M->fmus[source->instance], P->source_vr + p,
+                                           (size_t)(P->run_end[p] - p + 1), M->read + p);
             if (rc) return failed(M, source->instance, "reading a coupled output", t);
         }
         for (w = k; w <= end; w++) {
             double v;
-            p = M->write_order[w];
-            j = M->live[p];
+            p = P->write_order[w];
+            j = P->live[p];
             v = c[j].gain * M->read[p];
             if (M->sent_valid && v == M->sent[j]) continue;
             if (c[j].target.instance != target && flush(M, target, &n_pending, t)) return -1;
@@ -155,27 +164,50 @@ static int couple(me_master *M, double t)
     return 0;
 }
 
-/* Sets time and states on every instance and the couplings; skipped when the
-   instances already stand at (t, x). */
-static int set_point(me_master *M, double t, const double *x)
+/* Whether the instances already stand at (t, x), coupled. */
+static int at_point(const me_master *M, double t, const double *x)
+{
+    return M->set_valid && t == M->t_set &&
+           (M->n_x == 0 || memcmp(x, M->x_set, (size_t)M->n_x * sizeof(double)) == 0);
+}
+
+/* Time and states on every instance, or on those with only[i]. */
+static int move_instances(me_master *M, double t, const double *x, const int *only)
 {
     int i;
-    if (M->set_valid && t == M->t_set &&
-        (M->n_x == 0 || memcmp(x, M->x_set, (size_t)M->n_x * sizeof(double)) == 0))
-        return 0;
-    M->set_valid = 0;
     for (i = 0; i < M->n; i++) {
         int nx = M->x_off[i + 1] - M->x_off[i];
         if (M->asleep[i]) continue; /* it stands where it fell asleep, for good */
+        if (only && !only[i]) continue;
         if (fmu_set_time(M->fmus[i], t)) return failed(M, i, "setting the time", t);
         if (nx && fmu_set_continuous_states(M->fmus[i], x + M->x_off[i], (size_t)nx))
             return failed(M, i, "setting the continuous states", t);
     }
-    if (couple(M, t)) return -1;
+    return 0;
+}
+
+/* Sets time and states on every instance and the couplings; skipped when the
+   instances already stand at (t, x). */
+static int set_point(me_master *M, double t, const double *x)
+{
+    if (at_point(M, t, x)) return 0;
+    M->set_valid = 0;
+    if (move_instances(M, t, x, NULL) || couple(M, &M->between, t)) return -1;
     M->t_set = t;
     if (M->n_x) memcpy(M->x_set, x, (size_t)M->n_x * sizeof(double));
     M->set_valid = 1;
     return 0;
+}
+
+/* What an output row needs at (t, x): where rows_partial, only the instances the
+   recorded columns read and the couplings into them. The others stay where they
+   were, so the next set_point moves everything. An output point costs a right-hand
+   side's worth of FMI calls otherwise, for columns that often sit on a few instances. */
+static int set_row_point(me_master *M, double t, const double *x)
+{
+    if (!M->rows_partial || at_point(M, t, x)) return set_point(M, t, x);
+    M->set_valid = 0;
+    return move_instances(M, t, x, M->row_instance) || couple(M, &M->rows, t) ? -1 : 0;
 }
 
 static int rhs(void *ctx, double t, const double *x, double *dx)
@@ -331,7 +363,7 @@ static int write_row(me_master *M, double t, const double *x)
     const eng_me_spec *s = M->spec;
     double *row = s->out + (size_t)M->k_out * (size_t)s->n_columns;
     int c;
-    if (!M->rows_from_states && set_point(M, t, x)) return -1;
+    if (!M->rows_from_states && set_row_point(M, t, x)) return -1;
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
         if (M->rows_from_states)
@@ -556,11 +588,16 @@ static int handle_event(me_master *M, double t)
 
 static int completed_step(me_master *M, double t, int *step_event)
 {
-    int i;
+    int i, moved = 0;
     *step_event = 0;
-    if (set_point(M, t, M->x)) return -1;
     for (i = 0; i < M->n; i++) {
         int enter = 0, terminate = 0;
+        /* An FMU that needs no fmiCompletedIntegratorStep is not told, nor are the
+           instances moved back to the step's end for it: event location and the output
+           rows have left them elsewhere, and that move costs a right-hand side. */
+        if (M->spec->instances[i].completed_step_not_needed) continue;
+        if (!moved && set_point(M, t, M->x)) return -1;
+        moved = 1;
         if (fmu_completed_integrator_step(M->fmus[i], 1, &enter, &terminate))
             return failed(M, i, "completing the integrator step", t);
         if (enter) *step_event = 1;
@@ -734,45 +771,81 @@ static double *zeros(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(doub
    the segment sets, so reading a whole segment before setting it reads the same values
    as going one by one. Python orders them by dependency level, which makes segments
    long. Only the couplings the evaluation between events needs take part (live). */
-static const eng_coupling *live(const me_master *M, int p)
+static const eng_coupling *live(const me_master *M, const coupling_plan *P, int p)
 {
-    return &M->spec->couplings[M->live[p]];
+    return &M->spec->couplings[P->live[p]];
 }
 
-static int plan_couplings(me_master *M)
+static int plan_allocate(coupling_plan *P, int n_couplings)
 {
-    const int *continuous = M->spec->continuous;
+    size_t n = (size_t)n_couplings + 1;
+    P->live = calloc(n, sizeof(int));
+    P->segment_end = calloc(n, sizeof(int));
+    P->run_end = calloc(n, sizeof(int));
+    P->write_order = calloc(n, sizeof(int));
+    P->source_vr = calloc(n, sizeof(uint32_t));
+    return P->live && P->segment_end && P->run_end && P->write_order && P->source_vr ? 0 : -1;
+}
+
+static void plan_free(coupling_plan *P)
+{
+    free(P->live); free(P->segment_end); free(P->run_end); free(P->write_order);
+    free(P->source_vr);
+}
+
+/* The couplings with needed[i] (every one where needed is NULL), in the spec's order,
+   cut into segments, runs and write orders (see coupling_plan). */
+static int plan_couplings(me_master *M, coupling_plan *P, const int *needed)
+{
     int nc = M->spec->n_couplings, n, i, j, start = 0;
     char *targeted = calloc((size_t)M->n + 1, 1);
     if (!targeted) return -1;
     for (n = i = 0; i < nc; i++)
-        if (!continuous || continuous[i]) M->live[n++] = i;
-    M->n_live = n;
+        if (!needed || needed[i]) P->live[n++] = i;
+    P->n_live = n;
     for (i = 0; i <= n; i++) {
         /* close the segment start .. i-1 */
-        if (i == n || targeted[live(M, i)->source.instance]) {
+        if (i == n || targeted[live(M, P, i)->source.instance]) {
             int w = start, inst;
-            for (j = start; j < i; j++) M->segment_end[j] = i - 1;
+            for (j = start; j < i; j++) P->segment_end[j] = i - 1;
             for (inst = 0; inst < M->n; inst++) /* stable: by target instance */
                 for (j = start; j < i; j++)
-                    if (live(M, j)->target.instance == inst) M->write_order[w++] = j;
+                    if (live(M, P, j)->target.instance == inst) P->write_order[w++] = j;
             memset(targeted, 0, (size_t)M->n);
             start = i;
         }
-        if (i < n) targeted[live(M, i)->target.instance] = 1;
+        if (i < n) targeted[live(M, P, i)->target.instance] = 1;
     }
     free(targeted);
     for (i = n - 1; i >= 0; i--) {
-        const eng_variable *source = &live(M, i)->source, *next;
-        M->source_vr[i] = source->vr;
-        M->run_end[i] = i;
+        const eng_variable *source = &live(M, P, i)->source, *next;
+        P->source_vr[i] = source->vr;
+        P->run_end[i] = i;
         if (i + 1 == n) continue;
         /* one read for a run of one source's Float64 outputs within one segment */
-        next = &live(M, i + 1)->source;
-        if (M->segment_end[i + 1] == M->segment_end[i] && !source->is_int && !next->is_int &&
+        next = &live(M, P, i + 1)->source;
+        if (P->segment_end[i + 1] == P->segment_end[i] && !source->is_int && !next->is_int &&
             next->instance == source->instance)
-            M->run_end[i] = M->run_end[i + 1];
+            P->run_end[i] = P->run_end[i + 1];
     }
+    return 0;
+}
+
+/* The rows' own plan (eng_me_spec.row_coupling) and the instances it moves: those
+   with a recorded column and the sources of its couplings. Partial only where that
+   leaves something out of the evaluation between events. */
+static int plan_rows(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    int i, p;
+    M->row_instance = calloc((size_t)M->n + 1, sizeof(int));
+    if (!M->row_instance || plan_allocate(&M->rows, s->n_couplings)) return -1;
+    if (!s->row_coupling) return 0;
+    if (plan_couplings(M, &M->rows, s->row_coupling)) return -1;
+    for (i = 0; i < s->n_columns; i++) M->row_instance[s->columns[i].instance] = 1;
+    for (p = 0; p < M->rows.n_live; p++) M->row_instance[live(M, &M->rows, p)->source.instance] = 1;
+    M->rows_partial = M->rows.n_live < M->between.n_live;
+    for (i = 0; i < M->n; i++) M->rows_partial = M->rows_partial || !M->row_instance[i];
     return 0;
 }
 
@@ -816,17 +889,12 @@ static int allocate(me_master *M)
     M->values_new = zeros(s->n_couplings);
     M->sent = zeros(s->n_couplings);
     M->read = zeros(s->n_couplings);
-    M->live = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->segment_end = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->run_end = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->write_order = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->source_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_value = zeros(s->n_couplings);
-    if (!M->sent || !M->read || !M->live || !M->segment_end || !M->run_end || !M->write_order ||
-        !M->source_vr || !M->pending_vr || !M->pending_value)
+    if (!M->sent || !M->read || !M->pending_vr || !M->pending_value) return -1;
+    if (plan_allocate(&M->between, s->n_couplings) ||
+        plan_couplings(M, &M->between, s->continuous) || plan_rows(M))
         return -1;
-    if (plan_couplings(M)) return -1;
     M->row = zeros(width);
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->x_start
         || !M->asleep || !M->z_prev || !M->z_now ||
@@ -854,8 +922,8 @@ static void release(me_master *M)
     free(M->x_start); free(M->asleep);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
-    free(M->sent); free(M->read); free(M->live); free(M->segment_end); free(M->run_end);
-    free(M->write_order); free(M->source_vr);
+    free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
+    free(M->row_instance);
     free(M->pending_vr); free(M->pending_value);
 }
 
