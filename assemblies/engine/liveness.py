@@ -23,9 +23,7 @@ def needed_inputs(fmus: dict, couplings, record, dynamics: bool = True) -> dict[
     `dynamics`) and the recorded columns (`record`: (instance, variable) pairs) depend
     on, through the couplings."""
     need = {name: set() for name in fmus}
-    for name, fmu in fmus.items():
-        if not dynamics:
-            break
+    for name, fmu in fmus.items() if dynamics else ():
         if fmu.n_states:
             need[name] |= fmu.derivatives_depend
         if fmu.n_event_indicators:

@@ -85,10 +85,10 @@ def test_unlisted_dependencies_mean_every_input(fmi_version):
 def test_an_output_row_sets_only_what_the_recorded_columns_read(monkeypatch):
     """The blocks' positions depend on their own states and on the travel of their
     belts, their velocities on the belt (relative) on their states alone: a row
-    recording them sets the two travel couplings,
-    on the four instances involved, and its values equal, to the last bit, those of a
-    row that sets the whole assembly first. (The scene's own record, with the friction
-    and spring forces, needs every coupling the integrator does.)"""
+    recording them sets the two travel couplings on the four instances involved, and
+    its values equal, to the last bit, those of a row that sets the whole assembly
+    first. (The scene's own record, with the friction and spring forces, needs every
+    coupling the integrator does.)"""
     asm, record = _belt(["block1.s", "block1.v", "block2.s"])
     couplings = asm.couplings()  # resolves the causality profiles, which shape the FMUs
     fmus = {name: prepared(c) for name, c in asm.components.items()}
