@@ -123,9 +123,7 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
                    for v in md.modelVariables}
     p.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
     p.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    p.depends = {u.variable.name: (set(p.inputs) if u.dependencies is None else
-                                   {d.name for d in u.dependencies if d.causality == "input"})
-                 for u in md.outputs}
+    p.depends = {u.variable.name: _inputs_of([u], p.inputs) for u in md.outputs}
     p.derivatives_depend = _inputs_of(md.derivatives, p.inputs)
     # FMI 2 does not list the indicators' dependencies, and FMI 3 need not
     indicators = getattr(md, "eventIndicators", None) or []

@@ -765,12 +765,6 @@ static int integrate(me_master *M)
 
 static double *zeros(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
 
-/* Segments, runs and write order of the couplings (see couple). The couplings come in
-   dependency order (a coupling after those that set the inputs its source output
-   depends on); a segment ends before a coupling whose source instance a coupling of
-   the segment sets, so reading a whole segment before setting it reads the same values
-   as going one by one. Python orders them by dependency level, which makes segments
-   long. Only the couplings the evaluation between events needs take part (live). */
 static const eng_coupling *live(const me_master *M, const coupling_plan *P, int p)
 {
     return &M->spec->couplings[P->live[p]];
@@ -793,8 +787,12 @@ static void plan_free(coupling_plan *P)
     free(P->source_vr);
 }
 
-/* The couplings with needed[i] (every one where needed is NULL), in the spec's order,
-   cut into segments, runs and write orders (see coupling_plan). */
+/* Segments, runs and write order (see couple) of the couplings with needed[i] (every
+   one where needed is NULL). The couplings come in dependency order (a coupling after
+   those that set the inputs its source output depends on); a segment ends before a
+   coupling whose source instance a coupling of the segment sets, so reading a whole
+   segment before setting it reads the same values as going one by one. Python orders
+   them by dependency level, which makes segments long. */
 static int plan_couplings(me_master *M, coupling_plan *P, const int *needed)
 {
     int nc = M->spec->n_couplings, n, i, j, start = 0;
