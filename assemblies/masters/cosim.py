@@ -35,8 +35,9 @@ from typing import Callable
 from fmpy import calloc, extract, free, read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
-                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, printLogMessage)
-from fmpy.fmi3 import FMU3Slave
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2Discard,
+                       fmi2LastSuccessfulTime, fmi2Terminated, printLogMessage)
+from fmpy.fmi3 import FMU3Slave, fmi3Boolean, fmi3Discard, fmi3Float64
 from fmpy.logging import addLoggerProxy
 
 import numpy as np
@@ -189,23 +190,53 @@ class _Instance:
             self.call("enter initialization", self.fmu.enterInitializationMode,
                       tolerance, 0.0, stop_time)
 
-    def do_step(self, t: float, h: float) -> tuple[bool, float]:
-        """doStep from `t` over `h`: (the model asks to terminate, time reached). A
-        step an FMU discards fails the run, as in the engine."""
+    def do_step(self, t: float, h: float, final: bool = False) -> tuple[bool, float]:
+        """doStep from `t` over `h`: (the model asks to terminate, time reached).
+        `final`: no state from before t + h will be set again (the run cannot roll
+        back), which the FMU is told (noSetFMUStatePriorToCurrentPoint). The model ends
+        the run the FMI 2 way (Discard, then fmi2Terminated and fmi2LastSuccessfulTime)
+        or the FMI 3 way (terminateSimulation, with OK or Discard); any other step an
+        FMU discards fails the run, as in the engine."""
         self.step_start = t
-        # a master that rolls back may set a state from before t, so this is always False
-        if self.fmi_version == 2:  # FMI 2 says nothing more of a step that went through
-            self.call(f"doStep at t = {t:g}", self.fmu.doStep, t, h, False)
-            return False, t + h
-        _, stop, _, reached = self.call(f"doStep at t = {t:g}", self.fmu.doStep, t, h, False)
-        return stop, reached
+        what = f"doStep at t = {t:g}"
+        if self.fmi_version == 2:
+            try:
+                self.fmu.doStep(t, h, final)
+                return False, t + h
+            except FMICallException as exc:
+                if exc.status != fmi2Discard or not self._fmi2_status(
+                        self.fmu.getBooleanStatus, fmi2Terminated, False):
+                    raise self.failure(what, exc) from None
+                return True, _within(self._fmi2_status(self.fmu.getRealStatus,
+                                                       fmi2LastSuccessfulTime, t + h), t, h)
+        # fmpy's doStep drops the out arguments when it raises: called here directly
+        event, stop, early, reached = (fmi3Boolean(), fmi3Boolean(), fmi3Boolean(),
+                                       fmi3Float64(t + h))
+        try:
+            self.fmu.fmi3DoStep(self.fmu.component, t, h, fmi3Boolean(final), byref(event),
+                                byref(stop), byref(early), byref(reached))
+        except FMICallException as exc:
+            if exc.status != fmi3Discard or not stop.value:
+                raise self.failure(what, exc) from None
+        return bool(stop.value), _within(reached.value, t, h) if stop.value else reached.value
+
+    @staticmethod
+    def _fmi2_status(getter, kind, default):
+        """An FMI 2 status query; `default` where the FMU does not answer it."""
+        try:
+            return getter(kind)
+        except FMICallException:
+            return default
 
     def call(self, what: str, fn, *args):
         try:
             return fn(*args)
         except FMICallException as exc:
-            logged = "; ".join(self.messages[-3:]) or str(exc)
-            raise SimulationError(f"{self.name}: {what} failed: {logged}") from None
+            raise self.failure(what, exc) from None
+
+    def failure(self, what: str, exc: FMICallException) -> SimulationError:
+        logged = "; ".join(self.messages[-3:]) or str(exc)
+        return SimulationError(f"{self.name}: {what} failed: {logged}")
 
     def vr(self, name: str):
         if name not in self.variables:
@@ -312,6 +343,8 @@ class _Master:
         self.defect_tol = math.inf  # the adaptive tolerance (set by the stepper)
         self.defect, self.defect_order = 0.0, 1  # the last step's (chain_defect)
         self.terminated = None
+        # no step is ever rolled back (fixed steps): each doStep says so to its FMU
+        self.final = False
         # this step holds the sources' values (no extrapolation): set by event
         # synchronisation when an extrapolated input would fire an event too early
         self.hold_raw = False
@@ -358,7 +391,7 @@ class _Master:
     def _do_step(self, name: str, t: float, h: float) -> None:
         inst = self.instances[name]
         self.do_steps += 1
-        stop, reached = inst.do_step(t, h)
+        stop, reached = inst.do_step(t, h, self.final)
         if stop and self.terminated is None:  # the model says it cannot go on (why: in its log)
             self.terminated = {"instance": name, "time": reached,
                                "message": inst.messages[-1] if inst.messages else ""}
@@ -489,6 +522,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         columns = _record_columns(instances, record)
         master = _Master(assembly.name, instances, couplings, assembly.order(), scheme,
                          extrapolation, loop_tolerance, max_loop_iterations, newton)
+        master.final = not (adaptive or event_sync)
 
         def sample(t):
             row = {}
@@ -533,6 +567,11 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     finally:
         for inst in instances.values():
             inst.free()
+
+
+def _within(reached: float, t: float, h: float) -> float:
+    """Where a terminating FMU stopped, within its step [t, t + h] (as the engine)."""
+    return max(t, min(reached, t + h))
 
 
 def _close(a: float, b: float) -> bool:
@@ -625,8 +664,8 @@ class _Stepper:
             ok = True
             self.steps += 1
         m.hold_raw = False
-        if m.terminated is not None:  # a fixed step's row keeps its time
-            self.t = target
+        if m.terminated is not None:  # the last row is where the model stopped
+            self.t = m.terminated["time"]
         elif ok:
             self._advance(h_try, target)
 

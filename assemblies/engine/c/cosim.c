@@ -399,15 +399,23 @@ static int do_step(cosim *c, int i, double t, double h)
 {
     instance *in = &c->inst[i];
     fmu_step_result r;
+    int rc;
     if (c->asleep_since[i] <= t) return 0; /* its group stands still for good */
     memset(&r, 0, sizeof r);
     c->stats->do_steps++;
     in->step_start = t;
-    if (fmu_do_step(in->fmu, t, h, 0, &r) != FMU_OK) return fmu_fail(c, i, "doStep", t);
+    /* a run that never rolls back says so: some FMUs commit a step only when told
+       that no earlier state can be set again (noSetFMUStatePriorToCurrentPoint) */
+    rc = fmu_do_step(in->fmu, t, h, !(c->cfg->adaptive || c->cfg->event_sync), &r);
+    /* FMI 2 ends a run with Discard and fmi2Terminated; FMI 3 with terminateSimulation
+       (with OK or Discard): either way the rows so far stand and the run ends here */
+    if (rc != FMU_OK && !(rc == FMU_DISCARD && r.terminate)) return fmu_fail(c, i, "doStep", t);
     if (r.terminate && !c->terminated) { /* the model cannot go on (why: in its log) */
         c->terminated = 1;
         c->terminated_instance = i;
-        c->terminated_time = r.last_time;
+        /* where it stopped, within the step (an FMU without fmi2LastSuccessfulTime
+           reports the step's end) */
+        c->terminated_time = fmax(t, fmin(r.last_time, t + h));
     }
     return 0;
 }
@@ -910,8 +918,8 @@ static int one_step(cosim *c, double target)
         c->run_stats->steps++;
     }
     c->hold_raw = 0;
-    if (c->terminated) { /* a fixed step's row keeps its time, as in the reference */
-        c->t = target;
+    if (c->terminated) { /* the last row is where the model stopped */
+        c->t = c->terminated_time;
         return 0;
     }
     if (ok) {
