@@ -47,15 +47,33 @@ class FixedStepFallback(UserWarning):
     by both co-simulation masters (engine "c" and "fmpy")."""
 
 
-def fixed_step_fallback(adaptive: bool, stateless: list[str], step: float) -> str:
+def fixed_step_fallback(adaptive: bool, stateless: list[str], step: float,
+                        inexact: dict[str, str] | None = None) -> str:
     """What a co-simulation asked for `adaptive` steps or event synchronisation, with
-    the instances `stateless` unable to get and set their FMU state, says it ran
-    instead (fixed steps of `step`): the text of the warning and of
+    the instances `stateless` unable to get and set their FMU state and the instances
+    of `inexact` (name -> why) unable to restore it exactly (:func:`restore_mismatch`),
+    says it ran instead (fixed steps of `step`): the text of the warning and of
     ``settings["fallback"]``, the same from both masters."""
-    many = len(stateless) > 1
+    why = []
+    if stateless:
+        many = len(stateless) > 1
+        why.append(f"FMU instance{'s' if many else ''} {', '.join(repr(n) for n in stateless)} "
+                   f"cannot get and set {'their' if many else 'its'} state "
+                   "(canGetAndSetFMUstate is false)")
+    for name, reason in (inexact or {}).items():
+        why.append(f"FMU instance {name!r} declares canGetAndSetFMUstate but does not restore "
+                   f"its state exactly ({reason})")
     return (f"{'adaptive' if adaptive else 'event-synchronised'} co-simulation rolls "
-            f"steps back, but FMU instance{'s' if many else ''} "
-            f"{', '.join(repr(n) for n in stateless)} cannot get and set "
-            f"{'their' if many else 'its'} state (canGetAndSetFMUstate "
-            f"is false): ran fixed communication steps of {step:g} s without event "
-            "synchronisation instead")
+            f"steps back, but {'; '.join(why)}: ran fixed communication steps of {step:g} s "
+            "without event synchronisation instead")
+
+
+def restore_mismatch(variable: str, after_step: bool, expected: float, got: float) -> str:
+    """Why a state restore is not exact, as the restore check found it (both masters):
+    the state saved at t = 0, one doStep, the state set back (and the same doStep
+    again), and `variable` read `got` where it had read `expected`."""
+    if after_step:
+        return (f"set back to its state at t = 0 and stepped again the same, {variable} "
+                f"reads {got:.10g} instead of {expected:.10g}")
+    return (f"set back to its state at t = 0 after a doStep, {variable} reads {got:.10g} "
+            f"instead of {expected:.10g}")

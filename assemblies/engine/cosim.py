@@ -39,6 +39,7 @@ from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, Engine
                       run_events)
 from .build import library
 from .prepare import prepared, record_columns, rest_groups
+from .restore import inexact_restores
 
 EVENT_TOL = 1e-10  # width of the final bracket when an event is moved back [s]
 
@@ -146,9 +147,14 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     events the FMUs locate, and events the FMUs handle at a communication point are
     moved back to where the coupled system crossed (to 1e-10 s). Adaptive steps and
     event synchronisation roll back through FMU state; where an FMU cannot get and set
-    its state (a foreign one, say) the run falls back to fixed steps of `step` without
+    its state (a foreign one, say), or a foreign FMU's restore proves inexact when
+    checked once (:mod:`assemblies.engine.restore`; ``settings["inexact_restore"]``
+    names it and what differed), the run falls back to fixed steps of `step` without
     event synchronisation, warns (:class:`FixedStepFallback`) and says so in
-    ``settings["fallback"]``. `progress(t)` is called about every 0.25 s of wall time;
+    ``settings["fallback"]``. Fixed steps tell each doStep that no earlier state will
+    be set again (noSetFMUStatePriorToCurrentPoint). A model that ends the run (FMI 2:
+    doStep Discard with fmi2Terminated; FMI 3: terminateSimulation) ends it where it
+    stopped, with the rows so far and ``settings["terminated"]`` (instance, time, message). `progress(t)` is called about every 0.25 s of wall time;
     Ctrl-C (or an exception in `progress`, raised again afterwards) stops the run
     cleanly, keeping the rows computed (``settings["stopped"]``). With
     ``**DEFAULT_SCHEME`` a friction assembly comes out right (module doc).
@@ -164,13 +170,15 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     names = list(assembly.components)
     fmus = {n: prepared(assembly.components[n]) for n in names}
     _lib()  # compiled on a machine's first run: setup, like the FMUs
+    stateless = [n for n in names if not fmus[n].can_get_set_state]
+    # a foreign FMU's restore is trusted once checked (once per process: setup too)
+    inexact = inexact_restores(assembly, fmus, step, tolerance) if adaptive or event_sync else {}
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     started = wallclock.perf_counter()
     setup_s = started - setup
     fallback = None
-    stateless = [n for n in names if not fmus[n].can_get_set_state]
-    if (adaptive or event_sync) and stateless:
-        fallback = fixed_step_fallback(adaptive, stateless, step)
+    if (adaptive or event_sync) and (stateless or inexact):
+        fallback = fixed_step_fallback(adaptive, stateless, step, inexact)
         warnings.warn(fallback, FixedStepFallback, stacklevel=2)
         adaptive = event_sync = False
 
@@ -260,6 +268,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                 "loop_iterations": cstats.loop_iterations, "loop_residual": cstats.loop_residual,
                 "events_synchronised": cstats.events_synchronised,
                 "events_located": cstats.events_located, "fallback": fallback,
+                "inexact_restore": inexact or None,
                 "at_rest_from": None if math.isinf(cstats.at_rest_from) else cstats.at_rest_from,
                 "asleep": {n: float(t) for n, t in zip(names, asleep) if math.isfinite(t)},
                 # each of our FMUs' own solver; "auto" switches inside the FMU (its

@@ -25,6 +25,7 @@ results.
 from __future__ import annotations
 
 import math
+import struct
 import time as wallclock
 import warnings
 import weakref
@@ -47,7 +48,7 @@ from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
-                          fixed_step_fallback)
+                          fixed_step_fallback, restore_mismatch)
 from ..foreign import FMU, check_mode
 from ..result import Result, Table
 from .adaptive import StepController
@@ -511,12 +512,19 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     instances: dict[str, _Instance] = {}
     started = wallclock.perf_counter()
     fallback = None
+    inexact = {}
     try:
         for name, comp in assembly.components.items():
+            # a foreign FMU's restore is checked before the run's instance exists (the
+            # check's instance has the same name, which routes FMI 2 log messages)
+            if (adaptive or event_sync) and isinstance(comp, FMU):
+                problem = _restore_problem(name, comp, tolerance, step)
+                if problem is not None:
+                    inexact[name] = problem
             instances[name] = _Instance(name, comp, tolerance)
         stateless = [n for n, i in instances.items() if not i.can_get_set_state]
-        if (adaptive or event_sync) and stateless:  # as the engine does
-            fallback = fixed_step_fallback(adaptive, stateless, step)
+        if (adaptive or event_sync) and (stateless or inexact):  # as the engine does
+            fallback = fixed_step_fallback(adaptive, stateless, step, inexact)
             warnings.warn(fallback, FixedStepFallback, stacklevel=2)
             adaptive = event_sync = False
         columns = _record_columns(instances, record)
@@ -560,13 +568,66 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                     "loops": [" -> ".join(".".join(couplings[i].source) for i in g)
                               for g in master.loops],
                     "loop_iterations": master.loop_iterations,
-                    "loop_residual": master.loop_residual, "fallback": fallback}
+                    "loop_residual": master.loop_residual, "fallback": fallback,
+                    "inexact_restore": inexact or None}
         if adaptive:
             settings["tol"] = tol
         return Result({n: table[n] for n in names}, events, settings)
     finally:
         for inst in instances.values():
             inst.free()
+
+
+def _restore_problem(name: str, component, tolerance: float, step: float) -> str | None:
+    """Why a foreign FMU's state restore cannot be trusted, or None: the engine's check
+    (assemblies/engine/c/restore_check.h) through fmpy, on an instance of its own.
+    Saved at t = 0, one doStep of `step`, restored: the outputs and states must read
+    as at t = 0, and after the same doStep again as after the first, bit for bit."""
+    probe = _Instance(name, component, tolerance)
+    state = None
+    try:
+        if not probe.can_get_set_state:
+            return None
+        for key, value in component.fmu_starts().items():
+            probe.set(key, value)
+        probe.enter_initialization(tolerance, None)
+        probe.call("exit initialization", probe.fmu.exitInitializationMode)
+        names = [v for v in dict.fromkeys(probe.outputs + probe.states)
+                 if probe.variables[v].type in ("Real", "Float64", "Integer", "Int32")]
+        ended = ("its restore could not be checked: it ended the run in its doStep of "
+                 f"{step:g} s from t = 0")
+        start = probe.get(names)
+        state = probe.save()
+        if probe.do_step(0.0, step)[0]:
+            return ended
+        first = probe.get(names)
+        probe.restore(state)
+        differs = _first_difference(names, start, probe.get(names))
+        if differs is not None:
+            return restore_mismatch(differs[0], False, *differs[1:])
+        if probe.do_step(0.0, step)[0]:
+            return ended
+        differs = _first_difference(names, first, probe.get(names))
+        if differs is not None:
+            return restore_mismatch(differs[0], True, *differs[1:])
+        return None
+    except SimulationError as exc:
+        return f"its restore could not be checked: {exc}"
+    finally:
+        if state is not None:
+            try:
+                probe.discard(state)
+            except SimulationError:
+                pass
+        probe.free()
+
+
+def _first_difference(names, before, after):
+    """(name, before, after) of the first value whose bits changed, or None."""
+    for name, a, b in zip(names, before, after):
+        if struct.pack("d", a) != struct.pack("d", b):
+            return name, a, b
+    return None
 
 
 def _within(reached: float, t: float, h: float) -> float:
