@@ -36,6 +36,7 @@ from .engine.build import C_DIR, SHARED_RUNTIME
 from .engine.cosim import DEFAULT_SCHEME, EVENT_TOL, coupling_plan
 from .engine.me import EVENT_SUBSAMPLES, METHODS, integrator, step_limit_needed
 from .engine.prepare import prepared, record_columns
+from .engine.restore import inexact_restores
 from .experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                          fixed_step_fallback)
 from .foreign import FMU, check_mode
@@ -63,8 +64,9 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
       ``**settings`` (extrapolation, adaptive, tol, event_sync, loop_tolerance,
       max_loop_iterations, newton) as in ``cosimulate``, by default
       :data:`DEFAULT_SCHEME` (what a friction assembly needs to be right). A member that
-      cannot roll back makes it fixed steps of `step`, with a :class:`FixedStepFallback`
-      warning, as a run does.
+      cannot roll back, or a foreign member whose state restore proves inexact
+      (:mod:`assemblies.engine.restore`), makes it fixed steps of `step`, with a
+      :class:`FixedStepFallback` warning, as a run does.
     - ``"me"``: the members' Model Exchange interfaces in the engine's one integrator
       (`method`, `tolerance`), as ``simulate_me``; an input set from outside starts the
       next step with an event.
@@ -105,9 +107,12 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
         names = list(assembly.components)
         fmus = {n: prepared(assembly.components[n]) for n in names}
         stateless = [n for n in names if not fmus[n].can_get_set_state]
-        if mode == "cosim" and (s["adaptive"] or s["event_sync"]) and stateless:
-            warnings.warn(fixed_step_fallback(s["adaptive"], stateless, step), FixedStepFallback,
-                          stacklevel=2)
+        rolls_back = mode == "cosim" and (s["adaptive"] or s["event_sync"])
+        # a foreign member's restore is checked once here, as before a run
+        inexact = inexact_restores(assembly, fmus, step, tolerance) if rolls_back else {}
+        if rolls_back and (stateless or inexact):
+            warnings.warn(fixed_step_fallback(s["adaptive"], stateless, step, inexact),
+                          FixedStepFallback, stacklevel=2)
             s["adaptive"] = s["event_sync"] = False
         for n in names:
             if re.search(r"\s", fmus[n].token) or re.search(r"[\s/\\]", n):
