@@ -498,9 +498,14 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     moved back to where the coupled system crossed (to ``EVENT_TOL``,
     :mod:`assemblies.masters.events`). Adaptive steps and event synchronisation roll
     back through FMU state; where an FMU cannot get and set its state (a foreign one,
-    say) the run falls back to fixed steps of `step` without event synchronisation,
-    warns (:class:`assemblies.experiment.FixedStepFallback`) and says so in
-    ``settings["fallback"]``, as the compiled engine does. A foreign FMI 2 FMU has no
+    say), or a foreign FMU's restore proves inexact when checked before the run
+    (:func:`_restore_problem`; ``settings["inexact_restore"]``), the run falls back to
+    fixed steps of `step` without event synchronisation, warns
+    (:class:`assemblies.experiment.FixedStepFallback`) and says so in
+    ``settings["fallback"]``, as the compiled engine does. Fixed steps tell each doStep
+    that no earlier state will be set again (noSetFMUStatePriorToCurrentPoint). A model
+    that ends the run the FMI way ends it where it stopped, with the rows so far
+    (``settings["terminated"]``). A foreign FMI 2 FMU has no
     intermediate update: event synchronisation sees no events located inside its steps.
     A Model-Exchange-only foreign FMU is refused (:func:`assemblies.foreign.check_mode`).
     """

@@ -102,3 +102,21 @@ def test_a_run_without_rollback_lets_a_buffering_fmu_advance(run):
     fmpy_rows = simulate_fmu(str(handmade_fmu("term_lazy")), stop_time=2.0,
                              output_interval=STEP)
     np.testing.assert_allclose(res["lazy.y"], fmpy_rows["y"], rtol=1e-12)
+
+
+@pytest.mark.parametrize("run", [cosimulate, reference_cosimulate])
+def test_an_exact_fmi3_restore_passes_the_check(run):
+    """No false alarm: our own FMI 3 FMU, loaded as a foreign file (so it is checked),
+    moves in the check's step (its outputs at 0.1 s differ from the start's) and
+    restores exactly: the default adaptive run keeps its scheme."""
+    from components import WobblingDisk
+    from fmus.build import fetch_fmu
+    asm = Assembly("disk")
+    asm.add("disk", FMU(fetch_fmu(WobblingDisk()).path))
+    comp = asm.components["disk"]
+    assert restore.restore_problem("disk", comp, prepared(comp), STEP, 1e-8) is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FixedStepFallback)
+        res = run(asm, stop_time=0.5, step=STEP, **DEFAULT_SCHEME)
+    assert res.settings["adaptive"] is True and res.settings["inexact_restore"] is None
+    assert res["disk.phi"][1] != res["disk.phi"][0]
