@@ -118,3 +118,27 @@ def test_fmi2_model_exchange_ends_the_run_where_it_asks(how):
     # the rows so far, on the closed form h = h0 - g t^2 / 2, none after the end
     assert res["time"][-1] <= end["time"] and len(res["time"]) > 60
     np.testing.assert_allclose(res["mass.h"], H0 - G * res["time"] ** 2 / 2, atol=1e-8)
+
+
+@pytest.mark.parametrize("run, scheme", [
+    (cosimulate, {}), (cosimulate, DEFAULT_SCHEME), (reference_cosimulate, {}),
+    (reference_cosimulate, DEFAULT_SCHEME)])
+def test_an_fmu_that_rolls_back_ends_the_run_inside_a_step(run, scheme):
+    """term_decay (x' = -x + sin t, exact steps, exact restore) ends the FMI 2 way at
+    t_stop = 2.34, inside a step: the adaptive run keeps its scheme (the restore is
+    exact) and, like fixed steps and fmpy, ends with a row at 2.34 on the closed form."""
+    path = handmade_fmu("term_decay")
+    asm = Assembly("decay")
+    asm.add("dec", FMU(path, t_stop=2.34))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FixedStepFallback)
+        res = run(asm, stop_time=5.0, step=0.1, **scheme)
+    assert res.settings["adaptive"] is bool(scheme)
+    end = res.settings["terminated"]
+    assert end["instance"] == "dec" and end["time"] == pytest.approx(2.34, abs=1e-12)
+    fmpy_rows = simulate_fmu(str(path), stop_time=5.0, output_interval=0.1,
+                             start_values={"t_stop": 2.34})
+    np.testing.assert_allclose(res["time"], fmpy_rows["time"], rtol=0, atol=1e-12)
+    t = res["time"]
+    np.testing.assert_allclose(res["dec.y"], 1.5 * np.exp(-t) + 0.5 * (np.sin(t) - np.cos(t)),
+                               rtol=0, atol=1e-12)

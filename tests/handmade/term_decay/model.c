@@ -2,20 +2,25 @@
    (x(t + h) = (x(t) - p(t)) e^-h + p(t + h), p(t) = (sin t - cos t) / 2, on the FMU's
    own clock), that declares canGetAndSetFMUstate and restores its state as the
    parameter `restore` says: 0 exactly, 1 not at all (fmi2SetFMUstate does nothing and
-   says OK), 2 in part (x, not the clock): the state restores some exporters ship. */
+   says OK), 2 in part (x, not the clock): the state restores some exporters ship.
+   With t_stop > 0 it ends the run there the FMI 2 way (the step reaching t_stop stops
+   at it and answers fmi2Discard; fmi2Terminated is then true). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
 
 typedef struct {
     double time, x;
+    int terminated;
 } State;
 
 typedef struct {
     State s;
-    double x0;
+    double x0, t_stop;
     int restore;
+    char name[64];
     fmi2CallbackFunctions cb;
 } Instance;
 
@@ -24,11 +29,12 @@ static double p(double t) { return 0.5 * (sin(t) - cos(t)); }
 fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
                               fmi2String location, const fmi2CallbackFunctions *functions,
                               fmi2Boolean visible, fmi2Boolean logging) {
-    (void)name; (void)guid; (void)location; (void)visible; (void)logging;
+    (void)guid; (void)location; (void)visible; (void)logging;
     if (type != fmi2CoSimulation) return NULL;
     Instance *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     if (functions) s->cb = *functions;
+    snprintf(s->name, sizeof s->name, "%s", name ? name : "term_decay");
     s->x0 = 1.0;
     s->s.x = 1.0;
     return s;
@@ -50,13 +56,16 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
 }
 fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2Reset(fmi2Component c) {
-    Instance *s = c; s->s.time = 0; s->x0 = 1.0; s->s.x = 1.0; s->restore = 0; return fmi2OK;
+    Instance *s = c;
+    memset(&s->s, 0, sizeof s->s);
+    s->x0 = s->s.x = 1.0; s->t_stop = 0; s->restore = 0; return fmi2OK;
 }
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[]) {
     Instance *s = c;
     for (size_t i = 0; i < n; i++) {
         if (vr[i] == 1) v[i] = s->s.x;
         else if (vr[i] == 2) v[i] = s->x0;
+        else if (vr[i] == 4) v[i] = s->t_stop;
         else return fmi2Error;
     }
     return fmi2OK;
@@ -64,8 +73,9 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[]) {
     Instance *s = c;
     for (size_t i = 0; i < n; i++) {
-        if (vr[i] != 2) return fmi2Error;
-        s->x0 = v[i];
+        if (vr[i] == 2) s->x0 = v[i];
+        else if (vr[i] == 4) s->t_stop = v[i];
+        else return fmi2Error;
     }
     return fmi2OK;
 }
@@ -111,7 +121,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate st) {
     const State *saved = st;
     if (!saved) return fmi2Error;
     if (s->restore == 0) s->s = *saved;
-    else if (s->restore == 2) s->s.x = saved->x; /* the clock stays where it was */
+    else if (s->restore == 2) s->s.x = saved->x; /* the clock (and its end) stay */
     return fmi2OK;
 }
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *st) {
@@ -150,11 +160,19 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
 
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior) {
     Instance *s = c;
-    double t0 = s->s.time; /* its own clock, not the communication point */
+    double t0 = s->s.time, t1 = t0 + h; /* its own clock, not the communication point */
+    int stop = s->t_stop > 0 && t1 >= s->t_stop - 1e-12;
     (void)t; (void)noSetPrior;
-    s->s.x = (s->s.x - p(t0)) * exp(-h) + p(t0 + h);
-    s->s.time = t0 + h;
-    return fmi2OK;
+    if (s->s.terminated) return fmi2Error;
+    if (stop) t1 = s->t_stop;
+    s->s.x = (s->s.x - p(t0)) * exp(-(t1 - t0)) + p(t1);
+    s->s.time = t1;
+    if (!stop) return fmi2OK;
+    s->s.terminated = 1;
+    if (s->cb.logger)
+        s->cb.logger(s->cb.componentEnvironment, s->name, fmi2Discard, "logStatusDiscard",
+                     "the run ends at t_stop");
+    return fmi2Discard;
 }
 fmi2Status fmi2CancelStep(fmi2Component c) { (void)c; return fmi2Error; }
 fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) {
@@ -169,7 +187,9 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Int
     (void)c; (void)k; (void)v; return fmi2Discard;
 }
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v) {
-    (void)c; (void)k; (void)v; return fmi2Discard;
+    Instance *s = c;
+    if (k != fmi2Terminated) return fmi2Discard;
+    *v = s->s.terminated; return fmi2OK;
 }
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v) {
     (void)c; (void)k; (void)v; return fmi2Discard;
