@@ -395,6 +395,13 @@ static int consistent(cosim *c, double t)
     return 0;
 }
 
+/* FMI 2 ends a run with Discard and fmi2Terminated; FMI 3 with terminateSimulation
+   (with OK or Discard): a step that ends the run is no failure, any other is. */
+static int step_failed(int rc, const fmu_step_result *r)
+{
+    return rc != FMU_OK && !(rc == FMU_DISCARD && r->terminate);
+}
+
 static int do_step(cosim *c, int i, double t, double h)
 {
     instance *in = &c->inst[i];
@@ -407,9 +414,7 @@ static int do_step(cosim *c, int i, double t, double h)
     /* a run that never rolls back says so: some FMUs commit a step only when told
        that no earlier state can be set again (noSetFMUStatePriorToCurrentPoint) */
     rc = fmu_do_step(in->fmu, t, h, !(c->cfg->adaptive || c->cfg->event_sync), &r);
-    /* FMI 2 ends a run with Discard and fmi2Terminated; FMI 3 with terminateSimulation
-       (with OK or Discard): either way the rows so far stand and the run ends here */
-    if (rc != FMU_OK && !(rc == FMU_DISCARD && r.terminate)) return fmu_fail(c, i, "doStep", t);
+    if (step_failed(rc, &r)) return fmu_fail(c, i, "doStep", t);
     if (r.terminate && !c->terminated) { /* the model cannot go on (why: in its log) */
         c->terminated = 1;
         c->terminated_instance = i;
@@ -605,9 +610,10 @@ static int fires_at_start(cosim *c, const int *which, double t, double h_probe, 
         in->event_at_start = 0;
         in->event_in_step = INFINITY;
         in->step_start = t;
-        {
+        { /* (a terminate request is the real step's business) */
             fmu_step_result r;
-            if (fmu_do_step(in->fmu, t, h_probe, 0, &r) != FMU_OK) return fmu_fail(c, i, "doStep", t);
+            if (step_failed(fmu_do_step(in->fmu, t, h_probe, 0, &r), &r))
+                return fmu_fail(c, i, "doStep", t);
         }
         c->stats->do_steps++;
         *fires = in->event_at_start;
