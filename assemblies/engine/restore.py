@@ -11,7 +11,9 @@ file, start values, step and tolerance: what the check ran with.
 Our own FMUs (built from a component, not a foreign :class:`~assemblies.foreign.FMU`)
 are not checked: their runtime saves and restores the whole instance (fmus/runtime),
 which the runtime's own tests check. A foreign FMU's check costs one instantiation,
-initialisation and two doSteps, once (``restore_check_cost`` in the report of issue 24).
+initialisation and two doSteps, once: 0.3 ms for a small C FMU, 0.5 ms for one of ours
+loaded from its file, 11 ms for a pythonfmu FMU (which starts Python objects); a
+memoised verdict costs 10-20 us per run.
 """
 from __future__ import annotations
 

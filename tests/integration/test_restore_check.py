@@ -120,3 +120,25 @@ def test_an_exact_fmi3_restore_passes_the_check(run):
         res = run(asm, stop_time=0.5, step=STEP, **DEFAULT_SCHEME)
     assert res.settings["adaptive"] is True and res.settings["inexact_restore"] is None
     assert res["disk.phi"][1] != res["disk.phi"][0]
+
+
+@pytest.mark.parametrize("run", [cosimulate, reference_cosimulate])
+def test_an_fmi3_restore_that_does_nothing_is_found_too(run):
+    """term_stair3 (FMI 3, y = t, ends the run at t = 5) with fmi3SetFMUState doing
+    nothing: found, fallen back, warned once; the staircase still ends at 5 with its
+    rows, y = t; with an exact restore the adaptive run keeps its scheme."""
+    for restore_mode in (1, 0):
+        asm = Assembly("stairs")
+        asm.add("stair", FMU(handmade_fmu("term_stair3"), restore=restore_mode))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            res = run(asm, stop_time=10.0, step=0.5, **DEFAULT_SCHEME)
+        fallbacks = [str(w.message) for w in caught if issubclass(w.category, FixedStepFallback)]
+        if restore_mode:
+            assert len(fallbacks) == 1 and "'stair'" in fallbacks[0]
+            assert "after a doStep, y reads 0.5 instead of 0" in res.settings["inexact_restore"]["stair"]
+        else:
+            assert not fallbacks and res.settings["adaptive"] is True
+        assert res.settings["terminated"]["time"] == pytest.approx(5.0, abs=1e-12)
+        np.testing.assert_allclose(res["stair.y"], res["time"], rtol=0, atol=1e-12)
+        assert res["time"][-1] == pytest.approx(5.0, abs=1e-12)

@@ -1,7 +1,9 @@
 /* term_stair3: a counter of whole seconds, FMI 3 Co-Simulation, that ends its run the
    FMI 3 way: the doStep reaching t = 5 s sets terminateSimulation with
    lastSuccessfulTime = 5 and returns fmi3OK, or fmi3Discard where the parameter
-   `discard` is 1 (the standard allows either; fmpy reads only the first). */
+   `discard` is 1 (the standard allows either; fmpy reads only the first). It declares
+   canGetAndSetFMUState; fmi3SetFMUState restores exactly, or (parameter `restore` = 1)
+   does nothing and says OK. */
 #include <stdlib.h>
 #include <string.h>
 #include "fmi3Functions.h"
@@ -11,8 +13,12 @@
 typedef struct {
     double time;
     int counter;
-    int discard;
     int terminated;
+} State;
+
+typedef struct {
+    State s;
+    int discard, restore;
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log;
 } Instance;
@@ -52,13 +58,16 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String n, fmi3String t, fmi3S
 void fmi3FreeInstance(fmi3Instance i) { free(i); }
 fmi3Status fmi3EnterInitializationMode(fmi3Instance i, fmi3Boolean td, fmi3Float64 tol,
                                        fmi3Float64 t0, fmi3Boolean sd, fmi3Float64 t1) {
-    (void)td; (void)tol; (void)sd; (void)t1; ((Instance *)i)->time = t0; return fmi3OK;
+    (void)td; (void)tol; (void)sd; (void)t1; ((Instance *)i)->s.time = t0; return fmi3OK;
 }
 fmi3Status fmi3ExitInitializationMode(fmi3Instance i) { (void)i; return fmi3OK; }
 fmi3Status fmi3EnterEventMode(fmi3Instance i) { (void)i; return fmi3Error; }
 fmi3Status fmi3Terminate(fmi3Instance i) { (void)i; return fmi3OK; }
 fmi3Status fmi3Reset(fmi3Instance i) {
-    Instance *s = i; s->time = 0; s->counter = 0; s->discard = 0; s->terminated = 0; return fmi3OK;
+    Instance *s = i;
+    memset(&s->s, 0, sizeof s->s);
+    s->discard = s->restore = 0;
+    return fmi3OK;
 }
 
 fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t nvr,
@@ -67,7 +76,7 @@ fmi3Status fmi3GetFloat64(fmi3Instance i, const fmi3ValueReference vr[], size_t 
     if (nv != nvr) return fmi3Error;
     for (size_t k = 0; k < nvr; k++) {
         if (vr[k] != 0 && vr[k] != 2) return fmi3Error;
-        v[k] = s->time;
+        v[k] = s->s.time;
     }
     return fmi3OK;
 }
@@ -76,8 +85,9 @@ fmi3Status fmi3GetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nv
     Instance *s = i;
     if (nv != nvr) return fmi3Error;
     for (size_t k = 0; k < nvr; k++) {
-        if (vr[k] == 1) v[k] = s->counter;
+        if (vr[k] == 1) v[k] = s->s.counter;
         else if (vr[k] == 3) v[k] = s->discard;
+        else if (vr[k] == 4) v[k] = s->restore;
         else return fmi3Error;
     }
     return fmi3OK;
@@ -87,8 +97,9 @@ fmi3Status fmi3SetInt32(fmi3Instance i, const fmi3ValueReference vr[], size_t nv
     Instance *s = i;
     if (nv != nvr) return fmi3Error;
     for (size_t k = 0; k < nvr; k++) {
-        if (vr[k] != 3) return fmi3Error;
-        s->discard = v[k] != 0;
+        if (vr[k] == 3) s->discard = v[k] != 0;
+        else if (vr[k] == 4) s->restore = v[k] != 0;
+        else return fmi3Error;
     }
     return fmi3OK;
 }
@@ -141,9 +152,23 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance i, fmi3ValueReference d, siz
                                        fmi3DependencyKind k[], size_t n) {
     (void)i; (void)d; (void)ed; (void)ind; (void)ei; (void)k; (void)n; return fmi3Error;
 }
-fmi3Status fmi3GetFMUState(fmi3Instance i, fmi3FMUState *st) { (void)i; (void)st; return fmi3Error; }
-fmi3Status fmi3SetFMUState(fmi3Instance i, fmi3FMUState st) { (void)i; (void)st; return fmi3Error; }
-fmi3Status fmi3FreeFMUState(fmi3Instance i, fmi3FMUState *st) { (void)i; (void)st; return fmi3Error; }
+fmi3Status fmi3GetFMUState(fmi3Instance i, fmi3FMUState *st) {
+    Instance *s = i;
+    State *copy = *st ? (State *)*st : malloc(sizeof *copy);
+    if (!copy) return fmi3Error;
+    *copy = s->s;
+    *st = copy;
+    return fmi3OK;
+}
+fmi3Status fmi3SetFMUState(fmi3Instance i, fmi3FMUState st) {
+    Instance *s = i;
+    if (!st) return fmi3Error;
+    if (!s->restore) s->s = *(const State *)st;
+    return fmi3OK;
+}
+fmi3Status fmi3FreeFMUState(fmi3Instance i, fmi3FMUState *st) {
+    (void)i; free(*st); *st = NULL; return fmi3OK;
+}
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance i, fmi3FMUState st, size_t *n) {
     (void)i; (void)st; (void)n; return fmi3Error;
 }
@@ -248,11 +273,11 @@ fmi3Status fmi3DoStep(fmi3Instance i, fmi3Float64 t, fmi3Float64 h, fmi3Boolean 
     *eventHandlingNeeded = fmi3False;
     *earlyReturn = fmi3False;
     *terminateSimulation = fmi3False;
-    if (s->terminated) return fmi3Error;
+    if (s->s.terminated) return fmi3Error;
     if (target >= T_END - 1e-12) {
-        s->time = T_END;
-        s->counter = (int)T_END;
-        s->terminated = 1;
+        s->s.time = T_END;
+        s->s.counter = (int)T_END;
+        s->s.terminated = 1;
         *terminateSimulation = fmi3True;
         *lastSuccessfulTime = T_END;
         if (s->log)
@@ -260,8 +285,8 @@ fmi3Status fmi3DoStep(fmi3Instance i, fmi3Float64 t, fmi3Float64 h, fmi3Boolean 
                    "the staircase ends at t = 5 s");
         return s->discard ? fmi3Discard : fmi3OK;
     }
-    s->time = target;
-    s->counter = (int)(target + 1e-9);
+    s->s.time = target;
+    s->s.counter = (int)(target + 1e-9);
     *lastSuccessfulTime = target;
     return fmi3OK;
 }
