@@ -142,3 +142,14 @@ def test_an_fmi3_restore_that_does_nothing_is_found_too(run):
         assert res.settings["terminated"]["time"] == pytest.approx(5.0, abs=1e-12)
         np.testing.assert_allclose(res["stair.y"], res["time"], rtol=0, atol=1e-12)
         assert res["time"][-1] == pytest.approx(5.0, abs=1e-12)
+
+
+def test_an_assembly_fmu_checks_its_foreign_members_restore(tmp_path):
+    """export_fmu runs the assembly's master in the FMU: a member whose restore does
+    nothing makes it fixed steps, with the warning, and the FMU is right under fmpy."""
+    from assemblies import export_fmu
+    with pytest.warns(FixedStepFallback, match="'dec' declares canGetAndSetFMUstate but"):
+        path = export_fmu(decay(1), tmp_path / "decay.fmu", fmi=2, outputs=["dec.y"],
+                          stop_time=STOP, step=STEP)
+    rows = simulate_fmu(str(path), stop_time=STOP, output_interval=STEP)
+    assert np.abs(rows["dec.y"] - decay_exact(rows["time"])).max() < TOL
