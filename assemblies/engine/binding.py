@@ -39,7 +39,7 @@ class InstanceSpec(C.Structure):  # eng_instance_spec
                 ("n_event_outputs", C.c_int), ("event_output_vr", _P(C.c_uint32)),
                 ("event_output_is_int", _P(C.c_int)),
                 ("state_vr", _P(C.c_uint32)), ("derivative_vr", _P(C.c_uint32)),
-                ("completed_step_not_needed", C.c_int)]
+                ("completed_step_not_needed", C.c_int), ("set_again_before_rows", C.c_int)]
 
 
 class EventGroup(C.Structure):  # eng_event_group
@@ -109,6 +109,7 @@ def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict
     s.provides_directional_derivative = int(fmu.me_directional_derivative if model_exchange
                                             else fmu.provides_directional_derivative)
     s.completed_step_not_needed = int(model_exchange and fmu.completed_step_not_needed)
+    s.set_again_before_rows = int(model_exchange and not fmu.ours)
     s.n_float_starts = len(floats)
     s.float_start_vr = keep.array(C.c_uint32, [vr for vr, _ in floats])
     s.float_start_values = keep.array(C.c_double, [v for _, v in floats])

@@ -58,3 +58,42 @@ def test_robertsons_kinetics_run_under_the_automatic_method(tolerance):
         # within a few local tolerances on this decaying problem
         np.testing.assert_allclose(result[f"rob.y{k + 1}"], reference[k], rtol=5 * tolerance,
                                    atol=tolerance)
+
+
+# --- outputs an exporter computes in its set calls -----------------------------------
+
+def test_cached_fmu_is_valid():
+    assert validate_fmu(str(handmade_fmu("me_cached"))) == []
+
+
+@pytest.mark.parametrize("method", ["auto", "DOPRI5", "RODAS3"])
+def test_outputs_computed_in_set_time_alone_are_read_fresh_at_every_row(method):
+    """me_cached computes its outputs in fmi2SetTime from the states it holds then: after
+    time-then-states it reports the states of the point set before (the last stage).
+    The rows set time and states once more before reading; pos = cos 2t exactly as
+    the FMU whose outputs follow every call (cache_outputs = 0) gives it."""
+    times = np.arange(0.0, 3.0 + 1e-9, 0.1)
+    for cache in (1, 0):
+        result = simulate_me(alone("me_cached", "osc", cache_outputs=cache), 3.0, 0.1,
+                             tolerance=1e-8, method=method, record=["osc.pos", "osc.energy"])
+        np.testing.assert_allclose(result["time"], times, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(result["osc.pos"], np.cos(2.0 * times), rtol=0, atol=1e-6)
+        np.testing.assert_allclose(result["osc.energy"], 2.0, rtol=1e-6)
+
+
+# --- the stop time's row -------------------------------------------------------------
+
+@pytest.mark.parametrize("tolerance", [1e-10, 1e-11])
+@pytest.mark.parametrize("record", [["osc.x", "osc.v"], ["osc.pos"]])
+def test_the_stop_times_row_is_there_when_capped_steps_sum_short_of_it(tolerance, record):
+    """An indicator that moves with time caps the steps at the output interval; 290
+    steps of 0.01 summed from 0 end 4e-16 short of 2.9, which the loop took for the
+    stop time: the run ended without the row at 2.9 (290 rows of 291), whether the rows
+    come from the states alone (x, v) or from the FMU (pos)."""
+    stop, step = 2.9, 0.01
+    n = 291
+    result = simulate_me(alone("me_cached", "osc", cache_outputs=0), stop, step,
+                         tolerance=tolerance, record=record)
+    t = result["time"]
+    assert len(t) == n and t[-1] == stop
+    np.testing.assert_allclose(result[record[0]], np.cos(2.0 * t), rtol=0, atol=1e-8)

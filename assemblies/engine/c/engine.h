@@ -59,6 +59,10 @@ typedef struct {
        completedIntegratorStepNotNeeded, FMI 3's needsCompletedIntegratorStep = false);
        0 (the safe default): it is called after every step */
     int completed_step_not_needed;
+    /* Model Exchange: time and states are set once more before an output row reads this
+       instance (a foreign FMU: some exporters compute their outputs in fmiSetTime alone,
+       from the states they hold then, and read stale after time-then-states) */
+    int set_again_before_rows;
 } eng_instance_spec;
 
 /* Outputs recorded at the events of some indicators of one instance: one event table

@@ -57,6 +57,7 @@ typedef struct {
        row_instance[i] and the couplings of `rows`, when rows_partial */
     coupling_plan between, rows;
     int *row_instance, rows_partial;
+    int *set_again, any_set_again; /* the row instances with set_again_before_rows */
     double *read;         /* source values read in one call per run, by plan index */
     uint32_t *pending_vr; /* inputs of one target waiting to be set in one call */
     double *pending_value;
@@ -363,7 +364,11 @@ static int write_row(me_master *M, double t, const double *x)
     const eng_me_spec *s = M->spec;
     double *row = s->out + (size_t)M->k_out * (size_t)s->n_columns;
     int c;
-    if (!M->rows_from_states && set_row_point(M, t, x)) return -1;
+    /* standing at (t, x) is not enough for an FMU that computes its outputs in
+       fmiSetTime from the states it holds then: set once more, now that they are x */
+    if (!M->rows_from_states &&
+        (set_row_point(M, t, x) || (M->any_set_again && move_instances(M, t, x, M->set_again))))
+        return -1;
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
         if (M->rows_from_states)
@@ -694,7 +699,11 @@ static int advance(me_master *M, double target, eng_progress *progress)
         }
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
-        bound = fmin(bound, t + h_max);
+        /* a cap a round-off short of the target ends on it: steps of h_max summed from 0
+           end 4e-16 short of 2.9, a point the loop takes for the target, and the
+           target's row was lost with that sliver */
+        if (t + h_max < bound)
+            bound = bound == target && t + h_max >= target - eps_t ? target : t + h_max;
         if (s->rest_group) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
@@ -736,7 +745,12 @@ static int advance(me_master *M, double target, eng_progress *progress)
         M->stats->t_end = t;
         if (!M->terminate && eng_progress_check(progress, t)) return 1;
     }
-    if (!M->terminate && t < target) M->t = t = target;
+    if (!M->terminate && t < target) {
+        /* a sliver short (an event within eps_t of it): the target's rows from the
+           states reached, which the sliver cannot change beyond round-off */
+        M->t = t = target;
+        if (emit_until(M, t, 1, 0)) return -1;
+    }
     M->stats->t_end = t;
     /* the instances stand at the point reached: their outputs are read from there */
     return set_point(M, t, M->x);
@@ -847,6 +861,19 @@ static int plan_rows(me_master *M)
     return 0;
 }
 
+static int plan_set_again(me_master *M)
+{
+    int i;
+    M->set_again = calloc((size_t)M->n + 1, sizeof(int));
+    if (!M->set_again) return -1;
+    for (i = 0; i < M->n; i++) {
+        M->set_again[i] = M->spec->instances[i].set_again_before_rows &&
+                          (!M->rows_partial || M->row_instance[i]);
+        M->any_set_again = M->any_set_again || M->set_again[i];
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -891,7 +918,7 @@ static int allocate(me_master *M)
     M->pending_value = zeros(s->n_couplings);
     if (!M->sent || !M->read || !M->pending_vr || !M->pending_value) return -1;
     if (plan_allocate(&M->between, s->n_couplings) ||
-        plan_couplings(M, &M->between, s->continuous) || plan_rows(M))
+        plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M))
         return -1;
     M->row = zeros(width);
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->x_start
@@ -921,7 +948,7 @@ static void release(me_master *M)
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
-    free(M->row_instance);
+    free(M->row_instance); free(M->set_again);
     free(M->pending_vr); free(M->pending_value);
 }
 
