@@ -5,12 +5,18 @@ outputs cached by the set calls, a stop time the output grid can miss.
 Each model is a hand-written FMU (tests/handmade/me_*/), each result is checked
 against an independent reference: scipy's implicit solvers, a closed form.
 """
+import json
+import subprocess
+import sys
+import warnings
+
 import numpy as np
 import pytest
 from fmpy.validation import validate_fmu
 from scipy.integrate import solve_ivp
 
-from assemblies import FMU, Assembly, simulate_me
+from assemblies import FMU, Assembly, AssemblyError, EngineError, simulate_me
+from assemblies.engine import me as me_engine
 
 from handmade_fmus import handmade_fmu
 
@@ -97,3 +103,82 @@ def test_the_stop_times_row_is_there_when_capped_steps_sum_short_of_it(tolerance
     t = result["time"]
     assert len(t) == n and t[-1] == stop
     np.testing.assert_allclose(result[record[0]], np.cos(2.0 * t), rtol=0, atol=1e-8)
+
+
+# --- directional derivatives that lie ------------------------------------------------
+
+def pair_closed_form(t, a=1.0, b=1000.0):
+    return np.exp(-a * t), b / (b - a) * (np.exp(-a * t) - np.exp(-b * t))
+
+
+def test_dd_fmu_is_valid():
+    assert validate_fmu(str(handmade_fmu("me_dd"))) == []
+
+
+@pytest.mark.parametrize("method", ["auto", "RODAS3"])
+@pytest.mark.parametrize("dd_mode, why", [(1, "disagree with differences"), (2, "failed")])
+def test_broken_directional_derivatives_are_caught_and_left_for_differences(method, dd_mode,
+                                                                            why):
+    """me_dd's d x2'/d x2 comes back +b instead of -b (dd_mode 1), or its call fails
+    (2). The automatic choice compares them with central differences at t = 0, warns
+    once naming the instance, and takes finite differences: the closed form to the
+    tolerance. (Trusted, the wrong values make RODAS3 crawl: 199942 steps against 625.)"""
+    with pytest.warns(me_engine.JacobianFallback) as caught:
+        result = simulate_me(alone("me_dd", "pair", dd_mode=dd_mode), 2.0, 0.1,
+                             tolerance=1e-8, method=method)
+    assert len(caught) == 1
+    line = str(caught[0].message)
+    assert "\n" not in line and "pair: its directional derivatives" in line and why in line
+    s = result.settings
+    assert s["jacobian"] == "finite differences" and why in s["jacobian_note"]
+    x1, x2 = pair_closed_form(result["time"])
+    np.testing.assert_allclose(result["pair.x1"], x1, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(result["pair.x2"], x2, rtol=0, atol=1e-7)
+
+
+def test_right_directional_derivatives_pass_the_probe_silently():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = simulate_me(alone("me_dd", "pair", dd_mode=0), 2.0, 0.1, tolerance=1e-8)
+    assert result.settings["jacobian"] == "directional derivatives"
+    assert result.settings["jacobian_note"] is None
+    x1, x2 = pair_closed_form(result["time"])
+    np.testing.assert_allclose(result["pair.x2"], x2, rtol=0, atol=1e-7)
+
+
+def test_the_jacobian_setting_forces_either():
+    """'fd' never calls them; 'exact' trusts them without a probe, and a failing call
+    then fails the run in one line naming the instance."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fd = simulate_me(alone("me_dd", "pair", dd_mode=0), 2.0, 0.1, jacobian="fd")
+        exact = simulate_me(alone("me_dd", "pair", dd_mode=1), 0.2, 0.1, jacobian="exact",
+                            method="auto")
+    assert fd.settings["jacobian"] == "finite differences"
+    assert fd.settings["jacobian_setting"] == "fd"
+    assert exact.settings["jacobian"] == "directional derivatives"
+    with pytest.raises(EngineError) as failed:
+        simulate_me(alone("me_dd", "pair", dd_mode=2), 2.0, 0.1, jacobian="exact",
+                    method="RODAS3")
+    message = str(failed.value)
+    assert "\n" not in message and "pair" in message and "jacobian='exact'" in message
+    with pytest.raises(AssemblyError, match="jacobian must be one of auto, fd, exact"):
+        simulate_me(alone("me_dd", "pair"), 2.0, 0.1, jacobian="numeric")
+    with pytest.raises(AssemblyError, match="jacobian='exact': osc's FMU gives no directional"):
+        simulate_me(alone("me_cached", "osc"), 1.0, 0.1, jacobian="exact")
+
+
+def test_the_command_line_takes_the_jacobian_setting(tmp_path):
+    def mechfmu(*args):
+        return subprocess.run([sys.executable, "-m", "assemblies.cli", *args],
+                              capture_output=True, text=True, cwd=tmp_path)
+
+    proc = mechfmu("run", "stick_slip", "--stop-time", "14", "--step", "0.5", "--mode", "me",
+                   "--jacobian", "fd", "--out", str(tmp_path))
+    assert proc.returncode == 0, proc.stderr
+    settings = json.loads((tmp_path / "stick_slip.json").read_text())["settings"]
+    assert settings["jacobian"] == "finite differences" and settings["jacobian_setting"] == "fd"
+    proc = mechfmu("run", "stick_slip", "--engine", "fmpy", "--jacobian", "exact")
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode != 0 and "Traceback" not in proc.stderr and len(lines) == 1
+    assert "jacobian (--jacobian) applies to the compiled engine" in lines[0]
