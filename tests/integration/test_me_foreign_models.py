@@ -182,3 +182,18 @@ def test_the_command_line_takes_the_jacobian_setting(tmp_path):
     lines = proc.stderr.strip().splitlines()
     assert proc.returncode != 0 and "Traceback" not in proc.stderr and len(lines) == 1
     assert "jacobian (--jacobian) applies to the compiled engine" in lines[0]
+
+
+@pytest.mark.parametrize("method", ["DOPRI5", "RODAS3"])
+def test_the_stop_times_row_is_there_after_an_event_a_sliver_before_it(method):
+    """An event 3e-13 s before the stop time leaves a sliver the loop takes for the stop
+    time (it is within its 1e-12 relative round-off): the row at the stop time comes
+    from the states there, not never."""
+    stop = 1.0
+    result = simulate_me(alone("me_cached", "osc", cache_outputs=0, t_cross=stop - 3e-13),
+                         stop, 0.1, tolerance=1e-10, method=method, record=["osc.pos"])
+    t = result["time"]
+    assert len(t) == 11 and t[-1] == stop
+    np.testing.assert_allclose(result["osc.pos"], np.cos(2.0 * t), rtol=0, atol=1e-8)
+    events = result.events["osc"]["time"]
+    assert len(events) == 1 and stop - 1e-12 < events[0] < stop

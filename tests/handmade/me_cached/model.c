@@ -5,13 +5,14 @@
    states reads outputs of the states it set before (the last stage it evaluated)
    unless it sets the time once more. cache_outputs = 0: computed on every read.
    Outputs: pos = x, energy = (v^2 + w^2 x^2) / 2 (= w^2 / 2 for ever). One event
-   indicator, 2 + sin t, moves with time and never crosses zero. */
+   indicator, 2 + sin t, moves with time and never crosses zero; with t_cross > 0 it is
+   t_cross - t instead, an event (that changes nothing) at t_cross. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
 
-enum { VR_X, VR_V, VR_DX, VR_DV, VR_W, VR_CACHE, VR_POS, VR_ENERGY, N_VR };
+enum { VR_X, VR_V, VR_DX, VR_DV, VR_W, VR_CACHE, VR_POS, VR_ENERGY, VR_CROSS, N_VR };
 
 typedef struct {
     double time, v[N_VR];
@@ -36,6 +37,7 @@ static void reset(Instance *s)
     s->v[VR_X] = 1.0;
     s->v[VR_W] = 2.0;
     s->v[VR_CACHE] = 1.0;
+    s->v[VR_CROSS] = -1.0;
     derivatives(s);
     outputs(s);
 }
@@ -79,7 +81,9 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[]) {
     Instance *s = c;
     for (size_t i = 0; i < n; i++) {
-        if (vr[i] != VR_X && vr[i] != VR_V && vr[i] != VR_W && vr[i] != VR_CACHE) return fmi2Error;
+        if (vr[i] != VR_X && vr[i] != VR_V && vr[i] != VR_W && vr[i] != VR_CACHE &&
+            vr[i] != VR_CROSS)
+            return fmi2Error;
         s->v[vr[i]] = v[i];
     }
     return fmi2OK;
@@ -165,7 +169,7 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t nx) {
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t nz) {
     Instance *s = c;
     if (nz != 1) return fmi2Error;
-    z[0] = 2.0 + sin(s->time);
+    z[0] = s->v[VR_CROSS] > 0.0 ? s->v[VR_CROSS] - s->time : 2.0 + sin(s->time);
     return fmi2OK;
 }
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
