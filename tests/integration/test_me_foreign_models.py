@@ -45,8 +45,9 @@ def test_robertson_fmu_is_valid():
     assert validate_fmu(str(handmade_fmu("me_robertson"))) == []
 
 
+@pytest.mark.parametrize("jacobian", ["auto", "fd"])
 @pytest.mark.parametrize("tolerance", [1e-3, 1e-4, 1e-6])
-def test_robertsons_kinetics_run_under_the_automatic_method(tolerance):
+def test_robertsons_kinetics_run_under_the_automatic_method(tolerance, jacobian):
     """At a loose tolerance y2 (~3e-5) lies below the absolute tolerance: DOPRI5's
     stability-bound steps ring it negative within a few steps, where y2' = -3e7 y2^2
     runs away. Hairer's 15 votes came too late (the run died of a step underflow at
@@ -56,7 +57,8 @@ def test_robertsons_kinetics_run_under_the_automatic_method(tolerance):
                           rtol=1e-10, atol=1e-14, jac=robertson_jacobian, t_eval=times).y
     # the published values at t = 40 (Hairer & Wanner), which scipy's reproduces
     assert reference[:, -1] == pytest.approx([0.7158, 9.185e-6, 0.2842], rel=2e-4)
-    result = simulate_me(alone("me_robertson", "rob"), 40.0, 4.0, tolerance=tolerance)
+    result = simulate_me(alone("me_robertson", "rob"), 40.0, 4.0, tolerance=tolerance,
+                         jacobian=jacobian)
     assert result.settings["method"] == "auto" and result.settings["method_switches"] >= 1
     np.testing.assert_allclose(result["time"], times, rtol=0, atol=1e-12)
     for k in range(3):
