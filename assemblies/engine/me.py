@@ -257,15 +257,19 @@ def _check(stop_time, step, tolerance, method, jacobian="auto"):
         raise AssemblyError(f"jacobian must be one of {', '.join(JACOBIANS)}, not {jacobian!r}")
 
 
-def _check_exact(jacobian, fmus: dict) -> None:
-    """jacobian='exact' where an instance has no directional derivatives: named."""
+def _check_exact(jacobian, plan: _Plan) -> None:
+    """jacobian='exact' where an instance the Jacobian passes through (states, or a Real
+    coupling) has no directional derivatives: named (c/jacobian.c's eng_jacobian_plan)."""
     if jacobian != "exact":
         return
-    for name, fmu in fmus.items():
-        if fmu.n_states and not (fmu.me_directional_derivative
-                                 and len(fmu.states) == len(fmu.derivatives) == fmu.n_states):
+    coupled = {end.instance for c in plan.couplings[:plan.n_couplings]
+               for end in (c.source, c.target) if not c.source.is_int and not c.target.is_int}
+    for i, (name, fmu) in enumerate(zip(plan.names, plan.fmus)):
+        if (fmu.n_states or i in coupled) and not (
+                fmu.me_directional_derivative
+                and len(fmu.states) == len(fmu.derivatives) == fmu.n_states):
             raise AssemblyError(f"jacobian='exact': {name}'s FMU gives no directional "
-                                "derivatives of its states; 'auto' or 'fd' take differences")
+                                "derivatives; 'auto' or 'fd' take differences")
 
 
 def integrator(assembly: Assembly, method: str | None) -> str:
@@ -317,7 +321,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
 
     key = ("me", structure_key(assembly), None if record is None else tuple(record), fmi_version)
     plan = _plan(key, build)
-    _check_exact(jacobian, dict(zip(plan.names, plan.fmus)))
+    _check_exact(jacobian, plan)
     _engine()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     setup_s, started = wallclock.perf_counter() - started, wallclock.perf_counter()
@@ -384,7 +388,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
 
     key = ("monolithic", structure_key(assembly), None if record is None else tuple(record))
     plan = _plan(key, build)
-    _check_exact(jacobian, dict(zip(plan.names, plan.fmus)))
+    _check_exact(jacobian, plan)
     _engine()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     setup_s, started = wallclock.perf_counter() - started, wallclock.perf_counter()

@@ -269,6 +269,7 @@ static int column_disagrees(me_master *M, double t, const double *x, int j, doub
     if (rhs(M, t, M->x_tmp, M->fd)) return -1;
     M->x_tmp[j] = x[j] - delta;
     span -= M->x_tmp[j]; /* the steps actually taken */
+    if (!(span > 0.0)) return 0; /* x_j too large for the step to tell */
     if (rhs(M, t, M->x_tmp, M->fd2)) return -1;
     for (i = 0; i < n; i++) {
         double cd = (M->fd[i] - M->fd2[i]) / span;
@@ -338,7 +339,8 @@ static int probe_jacobian(me_master *M, double t)
    couplings where every instance has them (jacobian.h says why), else by forward
    differences, column by column, which any FMU allows. An FMU that fails to give its
    derivatives, or couplings that do not settle, hand the run to finite differences
-   for good. f(t, x) is the solver's own. */
+   for good (the failure noted), or fail it under ENG_JACOBIAN_EXACT. f(t, x) is the
+   solver's own. */
 static int jacobian(void *ctx, double t, const double *x, double *jac)
 {
     me_master *M = ctx;
@@ -352,7 +354,7 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
         if (M->spec->jacobian == ENG_JACOBIAN_EXACT)
             return rc < 0 ? failed(M, bad, "getting the directional derivatives "
                                            "(jacobian='exact')", t)
-                          : fail(M, "jacobian 'exact': the directional derivatives do not "
+                          : fail(M, "jacobian='exact': the directional derivatives do not "
                                     "settle through the couplings at t = %.10g (an algebraic "
                                     "loop); 'fd' or 'auto' take differences", t);
         if (rc < 0)
@@ -778,7 +780,7 @@ static int exit_initialization(me_master *M)
 static int initialize(me_master *M)
 {
     if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact && M->n_x)
-        return fail(M, "jacobian 'exact': an instance with states or coupled Real "
+        return fail(M, "jacobian='exact': an instance with states or coupled Real "
                        "variables gives no directional derivatives ('fd' or 'auto' take "
                        "differences)");
     return instantiate(M) || enter_initialization(M, 0.0) || exit_initialization(M);
@@ -1042,8 +1044,8 @@ static int allocate(me_master *M)
         plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M))
         return -1;
     M->row = zeros(width);
-    if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->fd2 || !M->x_before || !M->x_start
-        || !M->asleep || !M->z_prev || !M->z_now ||
+    if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->fd2 || !M->x_before
+        || !M->x_start || !M->asleep || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
     M->exact = s->jacobian == ENG_JACOBIAN_FD ? NULL : eng_jacobian_plan(s, M->x_off);
@@ -1064,7 +1066,8 @@ static void release(me_master *M)
     mf_dopri_free(&M->dopri);
     eng_jacobian_free(M->exact);
     free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
-    free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->fd2); free(M->x_before);
+    free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->fd2);
+    free(M->x_before);
     free(M->x_start); free(M->asleep);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
