@@ -199,3 +199,13 @@ def test_the_stop_times_row_is_there_after_an_event_a_sliver_before_it(method):
     np.testing.assert_allclose(result["osc.pos"], np.cos(2.0 * t), rtol=0, atol=1e-8)
     events = result.events["osc"]["time"]
     assert len(events) == 1 and stop - 1e-12 < events[0] < stop
+
+
+def test_only_foreign_fmus_pay_for_the_distrust():
+    """Our own FMUs' outputs follow every set call and their directional derivatives are
+    CasADi's: no probe, no second set before a row (the non-stiff scenes keep their
+    cost); a foreign one gets both."""
+    from assemblies.engine.prepare import prepared, prepared_path
+    from components import SpringBlock
+    assert prepared(SpringBlock(), 3).ours
+    assert not prepared_path(str(handmade_fmu("me_dd"))).ours
