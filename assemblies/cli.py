@@ -141,7 +141,8 @@ def _cmd_run(args) -> int:
                              tolerance=args.tolerance, params=params,
                              out=out, scheme=args.scheme, progress=progress, mode=args.mode,
                              adaptive=False if args.fixed_step else args.adaptive,
-                             extrapolation=args.extrapolation, engine=args.engine)
+                             extrapolation=args.extrapolation, engine=args.engine,
+                             jacobian=args.jacobian)
     finally:
         progress.close()
     print(run.table(verdict=False))
@@ -302,6 +303,11 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--engine", choices=("c", "fmpy"), default="c",
                    help="c: the compiled engine, one C call per run (default); fmpy: the "
                         "Python reference masters driving the same FMUs through fmpy")
+    r.add_argument("--jacobian", choices=("auto", "fd", "exact"),
+                   help="the implicit solver's Jacobian (modes me and monolithic): auto, "
+                        "directional derivatives unless a foreign FMU's disagree with "
+                        "differences at the start (default); fd, finite differences; exact, "
+                        "directional derivatives always")
     r.add_argument("--out", default="out", metavar="DIR",
                    help="output folder, made if missing (default: out)")
     r.set_defaults(fn=_cmd_run)

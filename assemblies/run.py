@@ -98,7 +98,8 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
               tolerance: float | None = None, params: dict | None = None,
               out: str | Path | None = None, scheme: str | None = None, progress=None,
               mode: str | None = None, adaptive: bool | float | None = None,
-              extrapolation: int | None = None, engine: str = "c", prune: bool = True) -> Result:
+              extrapolation: int | None = None, engine: str = "c", prune: bool = True,
+              jacobian: str | None = None) -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
     `mode` picks the master: ``cosim`` (Co-Simulation FMUs), ``me`` (Model Exchange FMUs
@@ -120,9 +121,14 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     Instances that cannot influence the recorded outputs are not run
     (:mod:`assemblies.pruning`; ``settings["pruned"]`` names them); ``prune=False``
     runs every instance.
+
+    `jacobian` (the compiled engine's one-solver runs: ``me``, ``monolithic``, a single
+    FMU): ``auto`` (default) takes directional derivatives unless a foreign FMU's
+    disagree with differences at the first point, ``fd`` finite differences, ``exact``
+    directional derivatives whatever happens.
     """
     return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
-                          mode, adaptive, extrapolation, engine, prune).result
+                          mode, adaptive, extrapolation, engine, prune, jacobian).result
 
 
 def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> dict:
@@ -157,7 +163,7 @@ def check_cosim_only(mode: str, **settings) -> None:
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
-                   extrapolation=None, engine="c", prune=True) -> SceneRun:
+                   extrapolation=None, engine="c", prune=True, jacobian=None) -> SceneRun:
     """As :func:`run_scene`, with the figures; `name` may also be a :class:`Scene` that is
     not in the registry (a parameter study runs an assembly given to it as one)."""
     sc = name if isinstance(name, Scene) else scene(name)
@@ -184,6 +190,12 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     run_cosim, run_me, run_monolithic = _masters(engine)
     single_fmu = (engine == "c" and len(run_asm.components) == 1 and adaptive is None
                   and extrapolation is None and scheme is None)
+    if jacobian is not None:
+        if engine != "c" or (mode == "cosim" and not single_fmu):
+            raise AssemblyError(f"jacobian (--jacobian) applies to the compiled engine's "
+                                f"one-solver runs (mode 'me' or 'monolithic', or a single "
+                                f"FMU), and this run is mode '{mode}' in engine '{engine}'")
+        common["jacobian"] = jacobian
     if mode == "cosim" and single_fmu:
         # one FMU and nothing to couple: no communication step to choose, so its solver
         # steps freely and outputs come from its dense output

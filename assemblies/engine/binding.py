@@ -39,7 +39,7 @@ class InstanceSpec(C.Structure):  # eng_instance_spec
                 ("n_event_outputs", C.c_int), ("event_output_vr", _P(C.c_uint32)),
                 ("event_output_is_int", _P(C.c_int)),
                 ("state_vr", _P(C.c_uint32)), ("derivative_vr", _P(C.c_uint32)),
-                ("completed_step_not_needed", C.c_int)]
+                ("completed_step_not_needed", C.c_int), ("foreign", C.c_int)]
 
 
 class EventGroup(C.Structure):  # eng_event_group
@@ -60,7 +60,8 @@ class Stats(C.Structure):  # eng_stats
                 ("steps", C.c_long), ("rejected", C.c_long), ("rhs_calls", C.c_long),
                 ("jacobians", C.c_long), ("events", C.c_long), ("method_switches", C.c_long),
                 ("at_rest_from", C.c_double), ("terminated_by", C.c_int),
-                ("exact_jacobian", C.c_int), ("message", C.c_char * 1024)]
+                ("exact_jacobian", C.c_int), ("message", C.c_char * 1024),
+                ("jacobian_note", C.c_char * 512)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec
@@ -74,7 +75,7 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("progress", PROGRESS_FN), ("progress_ctx", C.c_void_p),
                 ("rest_group", _P(C.c_int)), ("asleep_since", _P(C.c_double)),
                 ("continuous", _P(C.c_int)), ("column_state", _P(C.c_int)),
-                ("row_coupling", _P(C.c_int))]
+                ("row_coupling", _P(C.c_int)), ("jacobian", C.c_int)]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1
@@ -109,6 +110,7 @@ def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict
     s.provides_directional_derivative = int(fmu.me_directional_derivative if model_exchange
                                             else fmu.provides_directional_derivative)
     s.completed_step_not_needed = int(model_exchange and fmu.completed_step_not_needed)
+    s.foreign = int(model_exchange and not fmu.ours)
     s.n_float_starts = len(floats)
     s.float_start_vr = keep.array(C.c_uint32, [vr for vr, _ in floats])
     s.float_start_values = keep.array(C.c_double, [v for _, v in floats])

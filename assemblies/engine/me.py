@@ -13,6 +13,7 @@ import functools
 import math
 import threading
 import time as wallclock
+import warnings
 from typing import Callable
 
 import casadi as ca
@@ -38,6 +39,16 @@ from .prepare import (assembly_recipe, class_defaults, prepared, prepared_compos
 #: and back where it is gone (fmus/runtime/stiffness.h)
 METHODS = {name: value for value, name in SOLVER_METHODS.items()}  # the C's ENG_* values
 EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
+#: the Jacobian RODAS3 and the stiffness check use (engine.h, ENG_JACOBIAN_*): "auto",
+#: directional derivatives unless a foreign FMU's disagree with differences at the first
+#: point or fail; "fd", finite differences; "exact", directional derivatives or an error
+JACOBIANS = {"auto": 0, "fd": 1, "exact": 2}
+
+
+class JacobianFallback(UserWarning):
+    """A run left an FMU's directional derivatives for finite differences (they disagree
+    with differences at the first point, or a call failed); ``settings["jacobian_note"]``
+    says which instance and why."""
 
 
 class _Plan:
@@ -131,7 +142,7 @@ class _Plan:
             self.rest_group = self.keep.array(C.c_int, groups)
 
     def run(self, name, stop_time, step, tolerance, method, progress, event_subsamples,
-            scheme) -> tuple[dict, list, dict]:
+            scheme, jacobian="auto") -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
         lib = _engine()
         times, out, asleep, pointers = self._buffers(stop_time, step)
@@ -143,7 +154,7 @@ class _Plan:
                         tolerance, METHODS[method], event_subsamples,
                         step if self.capped else 0.0, prog.callback, None,
                         self.rest_group, pointers[2], self.continuous, self.column_state,
-                        self.rows)
+                        self.rows, JACOBIANS[jacobian])
         stats = B.Stats()
         started = wallclock.perf_counter()
         with prog.sigint():
@@ -157,6 +168,11 @@ class _Plan:
         message = stats.message.decode("utf-8", "replace")
         if stats.status == B.FAILED:
             raise B.EngineError(f"assembly '{name}': {message}")
+        note = stats.jacobian_note.decode("utf-8", "replace")
+        if note:
+            warnings.warn(f"assembly '{name}': {note}; the run takes finite differences "
+                          "(jacobian='exact' insists, 'fd' skips the check)", JacobianFallback,
+                          stacklevel=4)
         n = stats.n_rows
         rows = out[:n].copy()  # the buffers serve the plan's next run
         table = {"time": times[:n].copy()}
@@ -171,6 +187,7 @@ class _Plan:
             "method_switches": stats.method_switches,
             "jacobian": "directional derivatives" if stats.exact_jacobian
             else "finite differences",
+            "jacobian_setting": jacobian, "jacobian_note": note or None,
             "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
             "asleep": {n: float(t) for n, t in zip(self.names, asleep) if math.isfinite(t)},
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
@@ -232,10 +249,27 @@ def _plan(key, build) -> _Plan:
     return plan
 
 
-def _check(stop_time, step, tolerance, method):
+def _check(stop_time, step, tolerance, method, jacobian="auto"):
     check_experiment(stop_time, step, tolerance, "output step")
     if method is not None and method not in METHODS:
         raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
+    if jacobian not in JACOBIANS:
+        raise AssemblyError(f"jacobian must be one of {', '.join(JACOBIANS)}, not {jacobian!r}")
+
+
+def _check_exact(jacobian, plan: _Plan) -> None:
+    """jacobian='exact' where an instance the Jacobian passes through (states, or a Real
+    coupling) has no directional derivatives: named (c/jacobian.c's eng_jacobian_plan)."""
+    if jacobian != "exact":
+        return
+    coupled = {end.instance for c in plan.couplings[:plan.n_couplings]
+               for end in (c.source, c.target) if not c.source.is_int and not c.target.is_int}
+    for i, (name, fmu) in enumerate(zip(plan.names, plan.fmus)):
+        if (fmu.n_states or i in coupled) and not (
+                fmu.me_directional_derivative
+                and len(fmu.states) == len(fmu.derivatives) == fmu.n_states):
+            raise AssemblyError(f"jacobian='exact': {name}'s FMU gives no directional "
+                                "derivatives; 'auto' or 'fd' take differences")
 
 
 def integrator(assembly: Assembly, method: str | None) -> str:
@@ -253,14 +287,16 @@ def integrator(assembly: Assembly, method: str | None) -> str:
 def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-8,
                 record: list[str] | None = None, method: str | None = None,
                 progress: Callable[[float], None] | None = None,
-                event_subsamples: int = EVENT_SUBSAMPLES, fmi_version: int = 3) -> Result:
+                event_subsamples: int = EVENT_SUBSAMPLES, fmi_version: int = 3,
+                jacobian: str = "auto") -> Result:
     """Integrate `assembly` as Model Exchange FMUs in the engine; a row every `step` s.
 
     Same result as :func:`assemblies.masters.me.simulate_me`. `event_subsamples`:
     interior points of each step where the indicators are sampled, so that one
-    crossing twice inside a step is found (0: step ends only).
+    crossing twice inside a step is found (0: step ends only). `jacobian`: see
+    :data:`JACOBIANS` (a fallback warns with :class:`JacobianFallback`).
     """
-    _check(stop_time, step, tolerance, method)
+    _check(stop_time, step, tolerance, method, jacobian)
     check_mode(assembly, "me")  # a Co-Simulation-only FMU: named, with the modes that apply
     started = wallclock.perf_counter()
 
@@ -285,6 +321,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
 
     key = ("me", structure_key(assembly), None if record is None else tuple(record), fmi_version)
     plan = _plan(key, build)
+    _check_exact(jacobian, plan)
     _engine()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     setup_s, started = wallclock.perf_counter() - started, wallclock.perf_counter()
@@ -292,7 +329,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         plan.set_starts([{**c.values, **c.starts} for c in assembly.components.values()])
         table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
                                            integrator(assembly, method), progress,
-                                           event_subsamples, "me")
+                                           event_subsamples, "me", jacobian)
     tables = {plan.names[i]: Table.from_rows(["time"] + [f"{plan.names[i]}.{v}" for v in outputs],
                                              rows)
               for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
@@ -305,13 +342,15 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                         tolerance: float = 1e-10, record: list[str] | None = None,
                         method: str | None = None,
                         progress: Callable[[float], None] | None = None,
-                        event_subsamples: int = EVENT_SUBSAMPLES) -> Result:
+                        event_subsamples: int = EVENT_SUBSAMPLES,
+                        jacobian: str = "auto") -> Result:
     """The assembly joined into one composite FMU, run by the engine as a single FMU.
 
     Same result as :func:`assemblies.masters.monolithic.simulate_monolithic`; each
     member's events are told apart by the composite's indicators that member owns.
+    `jacobian`: as for :func:`simulate_me`.
     """
-    _check(stop_time, step, tolerance, method)
+    _check(stop_time, step, tolerance, method, jacobian)
     check_mode(assembly, "monolithic")  # a foreign FMU has no equations to join
     started = wallclock.perf_counter()
 
@@ -349,6 +388,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
 
     key = ("monolithic", structure_key(assembly), None if record is None else tuple(record))
     plan = _plan(key, build)
+    _check_exact(jacobian, plan)
     _engine()  # compiled on a machine's first run: setup, like the FMUs
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     setup_s, started = wallclock.perf_counter() - started, wallclock.perf_counter()
@@ -357,7 +397,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                           for k, v in {**c.values, **c.starts}.items()}])
         table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
                                            integrator(assembly, method), progress,
-                                           event_subsamples, "monolithic")
+                                           event_subsamples, "monolithic", jacobian)
     table = {("time" if k == "time" else k.removeprefix("assembly.")): v for k, v in table.items()}
     tables = {member: Table.from_rows(["time"] + outputs, rows)
               for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)

@@ -64,6 +64,9 @@ class PreparedFmu:
     autonomous: bool = False  # ours, with no explicit time (fmus.build.model_facts)
     # Model Exchange: the FMU needs no fmiCompletedIntegratorStep after each step
     completed_step_not_needed: bool = False
+    # built here from a component: its outputs follow every set call, as FMI asks; a
+    # foreign FMU may compute them in the set calls alone (me.c's write_row)
+    ours: bool = False
 
     @property
     def model_identifier(self) -> str:
@@ -282,6 +285,7 @@ def prepared(component, fmi_version: int = 3) -> PreparedFmu:
     fmu = prepared_path(str(built.path))
     fmu.chained = dict(built.facts["chained_inputs"])
     fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move
+    fmu.ours = True
     with _lock:
         _by_key[key] = fmu
     return fmu
@@ -364,6 +368,7 @@ def prepared_composite(assembly, fmi_version: int = 3) -> tuple[JoinedLayout, Pr
         recipes().update(recipe, layout=saved)
     fmu = prepared_path(str(built.path))
     fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move
+    fmu.ours = True
     result = (JoinedLayout(**saved), fmu)
     with _lock:
         _by_key[key] = result

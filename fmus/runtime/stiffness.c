@@ -103,9 +103,14 @@ static double spectral_radius(const double *jac, int n)
 
 int mf_stiffness_wants_jacobian(mf_stiffness *s)
 {
-    if (s->implicit || ++s->explicit_steps < EXPLICIT_CHECK_EVERY) return 0;
-    s->explicit_steps = 0;
-    return 1;
+    if (s->implicit) return 0;
+    /* the step just voted (a vote zeroes `against`): stability may bound it, and the
+       Jacobian says at once whether it does */
+    if ((s->votes > 0 && s->against == 0) || ++s->explicit_steps >= EXPLICIT_CHECK_EVERY) {
+        s->explicit_steps = 0;
+        return 1;
+    }
+    return 0;
 }
 
 int mf_stiffness_explicit_check(mf_stiffness *s, double h, const double *jac, int n)

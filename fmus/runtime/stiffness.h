@@ -11,7 +11,10 @@
  * method takes over. Near an equilibrium both of that estimate's differences are
  * round-off and it can miss a stability-bound DOPRI5 for millions of steps, so every 200
  * explicit steps the Jacobian is also evaluated: h rho beyond 2 (rho as below) means
- * stiffness too.
+ * stiffness too. So it is after every step that votes: 15 votes can come too late where
+ * a component lies below the absolute tolerance (Robertson's kinetics at tolerance 1e-4:
+ * y2 ~ 3e-5 rings negative at the stability edge within a few steps, then runs away as
+ * y2' = -3e7 y2^2), and a step that does not vote costs nothing more.
  *
  * Implicit to explicit: after each accepted RODAS3 step, the Jacobian it factored
  * gives the spectral radius rho (by power iteration). Where h rho stays inside DOPRI5's stability region
@@ -39,7 +42,8 @@ void mf_stiffness_reset(mf_stiffness *s, int start_implicit);
    h_lambda): 1 when the implicit method takes the next step. */
 int mf_stiffness_after_explicit(mf_stiffness *s, double h_lambda);
 
-/* Every EXPLICIT_CHECK_EVERY accepted explicit steps: 1 when the caller should also
+/* After an explicit step that voted, and every EXPLICIT_CHECK_EVERY accepted explicit
+   steps: 1 when the caller should also
    evaluate the Jacobian at the new point and call mf_stiffness_explicit_check, which
    catches what Hairer's estimate misses near an equilibrium (there both of its
    differences are round-off, and a stability-bound DOPRI5 can take millions of steps

@@ -59,6 +59,12 @@ typedef struct {
        completedIntegratorStepNotNeeded, FMI 3's needsCompletedIntegratorStep = false);
        0 (the safe default): it is called after every step */
     int completed_step_not_needed;
+    /* Model Exchange: an FMU not built by this project, held to less than FMI promises:
+       time and states are set once more before an output row reads it (some exporters
+       compute their outputs in fmiSetTime alone, from the states they hold then), and
+       under ENG_JACOBIAN_AUTO its directional derivatives are compared with differences
+       before the run trusts them */
+    int foreign;
 } eng_instance_spec;
 
 /* Outputs recorded at the events of some indicators of one instance: one event table
@@ -86,6 +92,11 @@ typedef int (*eng_progress_fn)(void *ctx, double t);
 enum { ENG_DONE = 0, ENG_STOPPED = 1, ENG_TERMINATED = 2, ENG_FAILED = -1 };
 /* ENG_AUTO: DOPRI5 until stiffness shows, then RODAS3 until it is gone (stiffness.h) */
 enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1, ENG_AUTO = 2 };
+/* Model Exchange's Jacobian. AUTO: from directional derivatives where every instance
+   has them, unless a foreign instance's disagree with central differences at the first
+   point (or a call fails): then by finite differences. FD: always by differences.
+   EXACT: from directional derivatives, and a failing call fails the run. */
+enum { ENG_JACOBIAN_AUTO = 0, ENG_JACOBIAN_FD = 1, ENG_JACOBIAN_EXACT = 2 };
 
 typedef struct {
     int status;           /* ENG_DONE, ENG_STOPPED, ENG_TERMINATED or ENG_FAILED */
@@ -97,6 +108,9 @@ typedef struct {
     int terminated_by;    /* the instance that ended the run (ENG_TERMINATED), else -1 */
     int exact_jacobian;   /* Model Exchange: the Jacobian came from directional derivatives */
     char message[1024];   /* the error (ENG_FAILED) or the terminating FMU's last message */
+    /* why the run left the directional derivatives for finite differences (ENG_JACOBIAN_AUTO),
+       naming the instance; empty where it did not */
+    char jacobian_note[512];
 } eng_stats;
 
 typedef struct {
@@ -140,6 +154,7 @@ typedef struct {
        `continuous`): an output row sets only these and the instances they and the
        columns read. NULL: a row sets every instance and the couplings of `continuous`. */
     const int *row_coupling;
+    int jacobian;                  /* ENG_JACOBIAN_AUTO, _FD or _EXACT */
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

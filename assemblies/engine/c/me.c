@@ -57,11 +57,12 @@ typedef struct {
        row_instance[i] and the couplings of `rows`, when rows_partial */
     coupling_plan between, rows;
     int *row_instance, rows_partial;
+    int *set_again, any_set_again; /* foreign row instances: set again before a row */
     double *read;         /* source values read in one call per run, by plan index */
     uint32_t *pending_vr; /* inputs of one target waiting to be set in one call */
     double *pending_value;
     double *row;                 /* an event row */
-    double *fd;                  /* finite-difference column */
+    double *fd, *fd2;            /* finite-difference columns */
     eng_jacobian *exact;         /* the Jacobian from directional derivatives; NULL: by
                                     finite differences */
     int *group_changed;          /* event groups with an indicator that crossed at this event */
@@ -230,11 +231,116 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
     return 0;
 }
 
+/* The run leaves the directional derivatives for finite differences, for good; with a
+   format, eng_stats.jacobian_note says why, naming the instance. */
+static void drop_exact(me_master *M, int instance, const char *format, ...)
+{
+    char *note = M->stats->jacobian_note;
+    const size_t size = sizeof M->stats->jacobian_note;
+    eng_jacobian_free(M->exact);
+    M->exact = NULL;
+    M->stats->exact_jacobian = 0;
+    if (format && instance >= 0) {
+        va_list args;
+        int k = snprintf(note, size, "%s: ", fmu_instance_name(M->fmus[instance]));
+        if (k < 0 || (size_t)k >= size) return;
+        va_start(args, format);
+        vsnprintf(note + k, size - (size_t)k, format, args);
+        va_end(args);
+    }
+}
+
+/* Column j of d f / d x at (t, x) by central differences with the step delta against
+   exact[], the directional derivatives' column: 1 when they disagree (*worst: the row
+   that disagrees most), 0 when they agree, -1 when the model fails. Central
+   differences are exact for a quadratic; what else they carry is delta^2 f''' / 6 and
+   the round-off of f, eps |f| / delta, so an entry off by more than 1e-3 of the
+   column's largest and than 1000 times that round-off is the derivatives' error
+   (*worst_cd: the differences' value there). */
+static int column_disagrees(me_master *M, double t, const double *x, int j, double delta,
+                            const double *exact, int *worst, double *worst_cd)
+{
+    const int n = M->n_x;
+    double span, largest = 0.0, most = 0.0;
+    int i, disagree = 0;
+    memcpy(M->x_tmp, x, (size_t)n * sizeof(double));
+    M->x_tmp[j] = x[j] + delta;
+    span = M->x_tmp[j];
+    if (rhs(M, t, M->x_tmp, M->fd)) return -1;
+    M->x_tmp[j] = x[j] - delta;
+    span -= M->x_tmp[j]; /* the steps actually taken */
+    if (!(span > 0.0)) return 0; /* x_j too large for the step to tell */
+    if (rhs(M, t, M->x_tmp, M->fd2)) return -1;
+    for (i = 0; i < n; i++) {
+        double cd = (M->fd[i] - M->fd2[i]) / span;
+        largest = fmax(largest, fmax(fabs(cd), fabs(exact[i])));
+    }
+    for (i = 0; i < n; i++) {
+        double cd = (M->fd[i] - M->fd2[i]) / span;
+        double noise = 1e3 * DBL_EPSILON * fmax(fabs(M->fd[i]), fabs(M->fd2[i])) / span;
+        double off = fabs(cd - exact[i]);
+        if (off > 1e-3 * largest + noise && off - noise > most) {
+            most = off - noise;
+            *worst = i;
+            *worst_cd = cd;
+            disagree = 1;
+        }
+    }
+    return disagree;
+}
+
+/* A foreign FMU's directional derivatives against central differences of the coupled
+   right-hand side at the run's first point (ENG_JACOBIAN_AUTO): one exporter's are
+   plainly wrong, and RODAS3 on a wrong Jacobian crawls, fails or drifts. A column that
+   disagrees at the step cbrt(eps) scale and again at 1e-3 of it is wrong, not a steep
+   feature the wider secant missed. Dropped for finite differences where they disagree or
+   a call fails. 0: checked, -1: the model failed. */
+static int probe_jacobian(me_master *M, double t)
+{
+    const int n = M->n_x;
+    double *exact = M->ros.jac;
+    int bad = -1, j, rc;
+    if (set_point(M, t, M->x)) return -1;
+    rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, exact, &bad);
+    if (rc < 0) {
+        drop_exact(M, bad, "its directional derivatives failed at t = %.10g (%.300s)", t,
+                   fmu_message(M->fmus[bad]));
+        return 0;
+    }
+    if (rc > 0) return 0; /* a loop: the solver's first Jacobian finds it and falls back */
+    for (j = 0; j < n; j++) {
+        const double *column = exact + (size_t)j * (size_t)n;
+        const double delta = cbrt(DBL_EPSILON) * fmax(fabs(M->x[j]), M->nominals[j]);
+        int worst = -1, owner = 0, state = 0, wide, narrow;
+        double cd = 0.0;
+        wide = column_disagrees(M, t, M->x, j, delta, column, &worst, &cd);
+        if (wide <= 0) {
+            if (wide < 0) return -1;
+            continue;
+        }
+        narrow = column_disagrees(M, t, M->x, j, 1e-3 * delta, column, &worst, &cd);
+        if (narrow < 0) return -1;
+        if (!narrow) continue;
+        while (M->x_off[owner + 1] <= worst) owner++;
+        while (M->x_off[state + 1] <= j) state++;
+        /* the row's instance, unless it is ours and the seed came from a foreign one
+           through a coupling */
+        drop_exact(M, M->spec->instances[owner].foreign ? owner : state,
+                   "its directional derivatives disagree with differences at t = %.10g: "
+                   "d(derivative %d of %s)/d(state %d of %s) = %.6g, central differences "
+                   "give %.6g", t, worst - M->x_off[owner], fmu_instance_name(M->fmus[owner]),
+                   j - M->x_off[state], fmu_instance_name(M->fmus[state]), column[worst], cd);
+        return 0;
+    }
+    return 0;
+}
+
 /* d f / d x: from the instances' directional derivatives carried through the
    couplings where every instance has them (jacobian.h says why), else by forward
    differences, column by column, which any FMU allows. An FMU that fails to give its
    derivatives, or couplings that do not settle, hand the run to finite differences
-   for good. f(t, x) is the solver's own. */
+   for good (the failure noted), or fail it under ENG_JACOBIAN_EXACT. f(t, x) is the
+   solver's own. */
 static int jacobian(void *ctx, double t, const double *x, double *jac)
 {
     me_master *M = ctx;
@@ -245,9 +351,17 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
         if (set_point(M, t, x)) return -1;
         rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, jac, &bad);
         if (rc == 0) return 0;
-        eng_jacobian_free(M->exact);
-        M->exact = NULL;
-        M->stats->exact_jacobian = 0;
+        if (M->spec->jacobian == ENG_JACOBIAN_EXACT)
+            return rc < 0 ? failed(M, bad, "getting the directional derivatives "
+                                           "(jacobian='exact')", t)
+                          : fail(M, "jacobian='exact': the directional derivatives do not "
+                                    "settle through the couplings at t = %.10g (an algebraic "
+                                    "loop); 'fd' or 'auto' take differences", t);
+        if (rc < 0)
+            drop_exact(M, bad, "its directional derivatives failed at t = %.10g (%.300s)", t,
+                       fmu_message(M->fmus[bad]));
+        else
+            drop_exact(M, -1, NULL);
     }
     memcpy(M->x_tmp, x, (size_t)n * sizeof(double));
     for (j = 0; j < n; j++) {
@@ -363,7 +477,11 @@ static int write_row(me_master *M, double t, const double *x)
     const eng_me_spec *s = M->spec;
     double *row = s->out + (size_t)M->k_out * (size_t)s->n_columns;
     int c;
-    if (!M->rows_from_states && set_row_point(M, t, x)) return -1;
+    /* standing at (t, x) is not enough for an FMU that computes its outputs in
+       fmiSetTime from the states it holds then: set once more, now that they are x */
+    if (!M->rows_from_states &&
+        (set_row_point(M, t, x) || (M->any_set_again && move_instances(M, t, x, M->set_again))))
+        return -1;
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
         if (M->rows_from_states)
@@ -651,11 +769,20 @@ static int exit_initialization(me_master *M)
     clear_groups(M);
     if (event_iteration(M, t0, 1)) return -1;
     if (indicators_at(M, t0, M->x, M->z_prev)) return -1;
+    if (M->exact && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
+        int foreign = 0;
+        for (i = 0; i < M->n; i++) foreign = foreign || s->instances[i].foreign;
+        if (foreign && probe_jacobian(M, t0)) return -1;
+    }
     return 0;
 }
 
 static int initialize(me_master *M)
 {
+    if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact && M->n_x)
+        return fail(M, "jacobian='exact': an instance with states or coupled Real "
+                       "variables gives no directional derivatives ('fd' or 'auto' take "
+                       "differences)");
     return instantiate(M) || enter_initialization(M, 0.0) || exit_initialization(M);
 }
 
@@ -694,7 +821,11 @@ static int advance(me_master *M, double target, eng_progress *progress)
         }
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
-        bound = fmin(bound, t + h_max);
+        /* a cap a round-off short of the target ends on it: steps of h_max summed from 0
+           end 4e-16 short of 2.9, a point the loop takes for the target, and the
+           target's row was lost with that sliver */
+        if (t + h_max < bound)
+            bound = bound == target && t + h_max >= target - eps_t ? target : t + h_max;
         if (s->rest_group) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
@@ -736,7 +867,12 @@ static int advance(me_master *M, double target, eng_progress *progress)
         M->stats->t_end = t;
         if (!M->terminate && eng_progress_check(progress, t)) return 1;
     }
-    if (!M->terminate && t < target) M->t = t = target;
+    if (!M->terminate && t < target) {
+        /* a sliver short (an event within eps_t of it): the target's rows from the
+           states reached, which the sliver cannot change beyond round-off */
+        M->t = t = target;
+        if (emit_until(M, t, 1, 0)) return -1;
+    }
     M->stats->t_end = t;
     /* the instances stand at the point reached: their outputs are read from there */
     return set_point(M, t, M->x);
@@ -847,6 +983,19 @@ static int plan_rows(me_master *M)
     return 0;
 }
 
+static int plan_set_again(me_master *M)
+{
+    int i;
+    M->set_again = calloc((size_t)M->n + 1, sizeof(int));
+    if (!M->set_again) return -1;
+    for (i = 0; i < M->n; i++) {
+        M->set_again[i] = M->spec->instances[i].foreign &&
+                          (!M->rows_partial || M->row_instance[i]);
+        M->any_set_again = M->any_set_again || M->set_again[i];
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -876,6 +1025,7 @@ static int allocate(me_master *M)
     M->x_set = zeros(M->n_x);
     M->nominals = zeros(M->n_x);
     M->fd = zeros(M->n_x);
+    M->fd2 = zeros(M->n_x);
     M->x_before = zeros(M->n_x);
     M->x_start = zeros(M->n_x);
     M->asleep = calloc((size_t)M->n + 1, sizeof(int));
@@ -891,14 +1041,14 @@ static int allocate(me_master *M)
     M->pending_value = zeros(s->n_couplings);
     if (!M->sent || !M->read || !M->pending_vr || !M->pending_value) return -1;
     if (plan_allocate(&M->between, s->n_couplings) ||
-        plan_couplings(M, &M->between, s->continuous) || plan_rows(M))
+        plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M))
         return -1;
     M->row = zeros(width);
-    if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->x_before || !M->x_start
-        || !M->asleep || !M->z_prev || !M->z_now ||
+    if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->fd2 || !M->x_before
+        || !M->x_start || !M->asleep || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
-    M->exact = eng_jacobian_plan(s, M->x_off);
+    M->exact = s->jacobian == ENG_JACOBIAN_FD ? NULL : eng_jacobian_plan(s, M->x_off);
     M->stats->exact_jacobian = M->exact != NULL;
     /* both methods, whichever the run starts with: the automatic choice may take either */
     if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
@@ -916,12 +1066,13 @@ static void release(me_master *M)
     mf_dopri_free(&M->dopri);
     eng_jacobian_free(M->exact);
     free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
-    free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->x_before);
+    free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->fd2);
+    free(M->x_before);
     free(M->x_start); free(M->asleep);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
-    free(M->row_instance);
+    free(M->row_instance); free(M->set_again);
     free(M->pending_vr); free(M->pending_value);
 }
 
@@ -935,6 +1086,9 @@ static const char *spec_defect(const eng_me_spec *s)
     if (s->method != ENG_DOPRI5 && s->method != ENG_RODAS3 && s->method != ENG_AUTO)
         return "unknown method";
     if (s->event_subsamples < 0) return "event_subsamples must be >= 0";
+    if (s->jacobian != ENG_JACOBIAN_AUTO && s->jacobian != ENG_JACOBIAN_FD &&
+        s->jacobian != ENG_JACOBIAN_EXACT)
+        return "unknown jacobian";
     for (k = 0; k < s->n_couplings; k++)
         if (s->couplings[k].source.instance < 0 || s->couplings[k].source.instance >= s->n_instances ||
             s->couplings[k].target.instance < 0 || s->couplings[k].target.instance >= s->n_instances)
