@@ -141,7 +141,8 @@ def _cmd_run(args) -> int:
                              tolerance=args.tolerance, params=params,
                              out=out, scheme=args.scheme, progress=progress, mode=args.mode,
                              adaptive=False if args.fixed_step else args.adaptive,
-                             extrapolation=args.extrapolation, engine=args.engine)
+                             extrapolation=args.extrapolation, engine=args.engine,
+                             start_time=args.start_time, inputs=args.inputs)
     finally:
         progress.close()
     print(run.table(verdict=False))
@@ -274,9 +275,15 @@ def _parser() -> argparse.ArgumentParser:
                                                    "`mechfmu scenes` says what each is)")
     r.add_argument("--stop-time", type=float, metavar="SECONDS",
                    help="end of the run [s] (default: the scene's own)")
+    r.add_argument("--start-time", type=float, metavar="SECONDS",
+                   help="start of the run [s], before the stop time (default: 0)")
     r.add_argument("--step", type=float, metavar="SECONDS",
                    help="communication step [s] with --fixed-step, else the output interval "
                         "(default: the scene's own)")
+    r.add_argument("--inputs", metavar="FILE.csv",
+                   help="a table feeding the scene's open signal inputs: a header row "
+                        "'time,INSTANCE.INPUT,...' and a row per time; linear between rows "
+                        "(discrete inputs held), two rows at one time a step")
     r.add_argument("--tolerance", type=float,
                    help="relative tolerance of the FMUs' solvers, in [1e-14, 1) (default: the "
                         "scene's own)")

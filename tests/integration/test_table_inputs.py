@@ -1,0 +1,231 @@
+"""Inputs from a table and a start time (issue 24, item 2), against closed forms and fmpy.
+
+The plant is MSL's Speed source, a first-order lag ``v' = w (v_ref - v)`` with
+``w = 2 pi f_crit``, its ``v_ref`` fed from a table with a ramp, a step (two rows at one
+time) and a ramp down. Between breakpoints the input is linear, so the lag has a closed
+form there, ``v = r(t) - b/w + (v_a - r_a + b/w) exp(-w (t - t_a))`` for
+``r = r_a + b (t - t_a)``, chained across the breakpoints by hand: the reference. fmpy's
+``simulate_fmu(input=...)`` on the same FMU is the second reference, for the
+interpolation rules themselves (before the first row and after the last, where the step
+falls, which side of it a row takes).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from assemblies import Assembly, AssemblyError
+from assemblies import engine as C
+from assemblies import masters as P
+from components import PositionSensor, Speed
+from components.table_sources import TimeTable
+
+F_CRIT = 1.0
+W = 2 * math.pi * F_CRIT
+# (time, v_ref): held 0.2 before 0.5, ramp to 1, a step to 3 at t = 1, flat, ramp down
+# to 0.5 at t = 3, held after
+ROWS = [(0.5, 0.2), (1.0, 1.0), (1.0, 3.0), (2.0, 3.0), (3.0, 0.5)]
+TOL = 1e-10
+
+
+def table(rows=ROWS, shift=0.0, column="src.v_ref"):
+    return np.array([(t + shift, y) for t, y in rows], dtype=[("time", float), (column, float)])
+
+
+def lag() -> Assembly:
+    asm = Assembly("lag")
+    asm.add("src", Speed(f_crit=F_CRIT))
+    asm.add("pos", PositionSensor())
+    asm.connect("src.flange", "pos.flange")
+    return asm
+
+
+def closed_form(times, rows=ROWS, v0=0.0) -> np.ndarray:
+    """The lag from rest at t = 0 under the table, linear input piece by piece."""
+    T = [t for t, _ in rows]
+    # pieces (start, end, value at start, slope): held before the first and after the
+    # last row, linear between two rows at different times (equal times: the step)
+    pieces = [(-math.inf, T[0], rows[0][1], 0.0)]
+    for (ta, ya), (tb, yb) in zip(rows, rows[1:]):
+        if tb > ta:
+            pieces.append((ta, tb, ya, (yb - ya) / (tb - ta)))
+    pieces.append((T[-1], math.inf, rows[-1][1], 0.0))
+    out = []
+    for t in times:
+        v, ts = v0, 0.0
+        for start, end, ya, b in pieces:
+            if end <= ts:
+                continue
+            te = min(end, t)
+            if te <= ts:
+                break
+            ra = ya + b * (ts - start) if b else ya
+            h = te - ts
+            v = ra + b * h - b / W + (v - ra + b / W) * math.exp(-W * h)
+            ts = te
+        out.append(v)
+    return np.array(out)
+
+
+ADAPTIVE = dict(adaptive=True, extrapolation=1, tol=1e-8)
+RUNS = {  # (function, keywords, the accuracy it promises against the closed form)
+    "c-me": (C.simulate_me, {}, 100 * TOL),
+    "c-monolithic": (C.simulate_monolithic, {}, 100 * TOL),
+    "c-cosim": (C.cosimulate, ADAPTIVE, 100 * ADAPTIVE["tol"]),
+    "fmpy-me": (P.simulate_me, {}, 100 * TOL),
+    "fmpy-monolithic": (P.simulate_monolithic, {}, 100 * TOL),
+    "fmpy-cosim": (P.cosimulate, ADAPTIVE, 100 * ADAPTIVE["tol"]),
+}
+
+
+@pytest.mark.parametrize("run", RUNS)
+def test_tabulated_step_through_a_lag_matches_the_closed_form(run):
+    """Every mode of both engines: the input ramps, steps at t = 1 and ramps down; the
+    breakpoints are events, so the solvers meet the closed form to their tolerance
+    (a kink or step inside a solver step would cost far more: the step alone is 2)."""
+    fn, kw, accuracy = RUNS[run]
+    res = fn(lag(), 4.0, 0.25, TOL, inputs=table(), **kw)
+    assert res["time"][0] == 0.0 and res["time"][-1] == 4.0
+    assert np.abs(res["src.v"] - closed_form(res["time"])).max() < accuracy
+    if run == "c-me":  # the table's own output: fmpy's rule at every row (after the event)
+        assert np.allclose(res["src_v_ref_table.y"][:5], [0.2, 0.2, 0.2, 0.6, 3.0],
+                           rtol=0, atol=1e-12)
+        assert res.settings["events"] >= 3  # t = 1 (the step), 2 and 3 (kinks)
+
+
+@pytest.mark.parametrize("run", RUNS)
+def test_start_time_shifts_the_closed_form(run):
+    """A run from t0 = 1.5 with the table shifted by t0 is the run from 0 shifted: the
+    FMUs are initialised at t0 (a table FMU still at 0 would be 1.5 s off), the rows start
+    there, and the closed form from rest at t0 holds."""
+    fn, kw, accuracy = RUNS[run]
+    t0 = 1.5
+    res = fn(lag(), t0 + 4.0, 0.25, TOL, inputs=table(shift=t0), start_time=t0, **kw)
+    assert res["time"][0] == t0 and res["time"][-1] == t0 + 4.0
+    assert np.allclose(np.diff(res["time"]), 0.25)
+    assert res.settings["start_time"] == t0
+    assert np.abs(res["src.v"] - closed_form(res["time"] - t0)).max() < accuracy
+
+
+@pytest.mark.parametrize("fn", [C.cosimulate, P.cosimulate], ids=["c", "fmpy"])
+def test_start_time_shifts_a_fixed_step_cosimulation(fn):
+    """Fixed communication steps hold each input over a step (far from the closed form at
+    h = 0.25); shifted by t0 the run must still be the same run: each row to rounding."""
+    base = fn(lag(), 4.0, 0.25, TOL, inputs=table())
+    moved = fn(lag(), 6.0, 0.25, TOL, inputs=table(shift=2.0), start_time=2.0)
+    assert np.allclose(moved["time"] - 2.0, base["time"], rtol=0, atol=1e-12)
+    assert np.abs(moved["src.v"] - base["src.v"]).max() < 1e-8
+
+
+@pytest.mark.parametrize("fmi_type", ["ModelExchange", "CoSimulation"])
+def test_interpolation_rules_match_fmpy_on_the_same_fmu(fmi_type):
+    """fmpy's simulate_fmu(input=...) drives the Speed FMU itself (flange force 0, as the
+    sensor gives it). fmpy applies continuous inputs at its communication points and holds
+    them in between, an O(h) error at h = 1 ms; a rule of ours that differed (the step a
+    row late or early, the first value not held before t = 0.5, the last not held after
+    t = 3) would be off by 0.1 to 2."""
+    import fmpy
+
+    from fmus.build import build_fmu
+    path = build_fmu(Speed(f_crit=F_CRIT), fmi_version=2)
+    signals = np.array([(t, y, 0.0) for t, y in ROWS],
+                       dtype=[("time", float), ("v_ref", float), ("flange.f", float)])
+    ref = fmpy.simulate_fmu(str(path), fmi_type=fmi_type, input=signals, stop_time=4.0,
+                            output_interval=1e-3, relative_tolerance=1e-8, output=["v"])
+    ours = C.simulate_me(lag(), 4.0, 0.25, TOL, inputs=table())
+    assert np.abs(np.interp(ours["time"], ref["time"], ref["v"]) - ours["src.v"]).max() < 5e-3
+
+
+def test_time_table_follows_fmpys_interpolate():
+    """The TimeTable alone, linear and held, against fmpy.simulation.Input.interpolate
+    itself at times between rows, on rows and outside the table: continuous inputs
+    linear, discrete ones the last row at or before the time (after_event: a run samples
+    a row's time after its event)."""
+    from fmpy.simulation import Input
+
+    rows = [(0.5, 0.2), (1.0, 1.0), (1.0, 3.0), (2.0, 3.0), (2.5, -1.0), (3.0, 0.5)]
+    t, y = np.array(rows).T
+    for interpolation, discrete in (("linear", False), ("hold", True)):
+        asm = Assembly("table_only")
+        asm.add("tt", TimeTable(table=rows, interpolation=interpolation, offset=0.0))
+        res = C.simulate_me(asm, 4.0, 0.125, TOL)
+        expected = [Input.interpolate(s, t, y[None, :], discrete=discrete,
+                                      after_event=True)[0][0] for s in res["time"]]
+        assert np.abs(res["tt.y"] - expected).max() < 1e-12, interpolation
+
+
+def test_time_table_offset_and_start_time():
+    """MSL's TimeTable: y = offset + table(time - startTime)."""
+    asm = Assembly("table_only")
+    asm.add("tt", TimeTable(table=[(0.0, 0.0), (1.0, 2.0)], offset=0.5, startTime=1.0))
+    res = C.simulate_me(asm, 3.0, 0.25, TOL)
+    expected = 0.5 + np.clip(2.0 * (res["time"] - 1.0), 0.0, 2.0)
+    assert np.abs(res["tt.y"] - expected).max() < 1e-12
+
+
+def test_a_table_is_checked_as_input():
+    """One line each: the column, the row or the bound, and what is allowed."""
+    asm = lag()
+    with pytest.raises(AssemblyError, match=r"column 'src\.v_rf' is not an open input of "
+                                            r"assembly 'lag'; open inputs: src\.v_ref"):
+        C.simulate_me(asm, 1.0, 0.1, inputs=table(column="src.v_rf"))
+    bad = table()
+    bad["time"][3] = 0.7
+    with pytest.raises(AssemblyError, match=r"times must not decrease; row 4 \(time 0.7\) comes "
+                                            r"after row 3 \(time 1\)"):
+        C.simulate_me(asm, 1.0, 0.1, inputs=bad)
+    bad = table()
+    bad["src.v_ref"][2] = np.nan
+    with pytest.raises(AssemblyError, match=r"column 'src\.v_ref' row 3 is nan, not a finite"):
+        C.simulate_me(asm, 1.0, 0.1, inputs=bad)
+    with pytest.raises(AssemblyError, match=r"no 'time' column; columns: t, src\.v_ref"):
+        C.simulate_me(asm, 1.0, 0.1, inputs=np.zeros(2, dtype=[("t", float),
+                                                                ("src.v_ref", float)]))
+    from components.table_sources import MAX_ROWS
+    many = np.zeros(MAX_ROWS + 1, dtype=[("time", float), ("src.v_ref", float)])
+    many["time"] = np.arange(MAX_ROWS + 1)
+    with pytest.raises(AssemblyError, match=rf"{MAX_ROWS + 1} rows; a table has 1 to {MAX_ROWS}"):
+        P.simulate_me(asm, 1.0, 0.1, inputs=many)
+    with pytest.raises(AssemblyError, match="inputs must be a numpy structured array, a pandas "
+                                            "DataFrame or the path of a CSV file"):
+        C.cosimulate(asm, 1.0, 0.1, inputs=[[0, 1]])
+    assert list(asm.components) == ["src", "pos"]  # the user's assembly is left as it was
+
+
+def test_start_time_is_checked():
+    for start, words in ((math.inf, "start time must be finite, not inf"),
+                         (2.0, "start time 2 s must be before the stop time 1 s"),
+                         ("0", "start time must be a number, not '0'")):
+        for fn in (C.simulate_me, C.cosimulate, C.simulate_monolithic, P.simulate_me,
+                   P.cosimulate, P.simulate_monolithic):
+            with pytest.raises(AssemblyError, match=words):
+                fn(lag(), 1.0, 0.1, start_time=start)
+
+
+def test_inputs_from_a_csv_file_and_a_dataframe(tmp_path):
+    """A CSV file (fmpy's _in.csv shape) and a DataFrame give the run the array gives."""
+    import pandas as pd
+
+    csv = tmp_path / "lag_in.csv"
+    csv.write_text("time,src.v_ref\n" + "".join(f"{t},{y}\n" for t, y in ROWS))
+    frame = pd.DataFrame(ROWS, columns=["time", "src.v_ref"])
+    runs = [C.simulate_me(lag(), 4.0, 0.25, TOL, inputs=i) for i in (table(), csv, str(csv), frame)]
+    for res in runs[1:]:
+        assert np.array_equal(res["src.v"], runs[0]["src.v"])
+    csv.write_text("time,src.v_ref\n0,1\n1,x\n")
+    with pytest.raises(AssemblyError, match=r"line 3 holds a field that is not a number"):
+        C.simulate_me(lag(), 1.0, 0.1, inputs=csv)
+
+
+def test_run_scene_takes_inputs_and_a_start_time():
+    """run_scene_full with a Scene of the lag: tables attached before pruning, the start
+    time reaches the master, and a single-instance scene names inputs without prefix."""
+    from assemblies.run import run_scene_full
+    from assemblies.scenes import Scene
+
+    sc = Scene("lag", "a lag fed by a table", lag, 4.0, 0.25, TOL, ["src.v"],
+               lambda res, asm: [], mode="me")
+    run = run_scene_full(sc, inputs=table(shift=1.0), start_time=1.0, stop_time=5.0)
+    res = run.result
+    assert res["time"][0] == 1.0
+    assert np.abs(res["src.v"] - closed_form(res["time"] - 1.0)).max() < 100 * TOL
