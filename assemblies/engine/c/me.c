@@ -703,6 +703,9 @@ static int advance(me_master *M, double target, eng_progress *progress)
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
         bound = fmin(bound, t + h_max);
+        /* no sliver before the target either: a step capped at h_max from an event
+           located a hair early would end within round-off of it and leave its row out */
+        if (bound < target && target - bound <= eps_t) bound = target;
         if (s->rest_group) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
@@ -744,7 +747,11 @@ static int advance(me_master *M, double target, eng_progress *progress)
         M->stats->t_end = t;
         if (!M->terminate && eng_progress_check(progress, t)) return 1;
     }
-    if (!M->terminate && t < target) M->t = t = target;
+    if (!M->terminate && t < target) {
+        /* within round-off of the target (an event there): its rows are this point's */
+        M->t = t = target;
+        if (emit_until(M, t, 1, 0)) return -1;
+    }
     M->stats->t_end = t;
     /* the instances stand at the point reached: their outputs are read from there */
     return set_point(M, t, M->x);
