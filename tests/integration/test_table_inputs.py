@@ -310,3 +310,35 @@ def test_a_time_table_inside_an_exported_assembly_fmu(mode, tmp_path):
     accuracy = 100 * (TOL if mode == "me" else settings["tol"])
     assert np.abs(res["src.v"] - closed_form(res["time"])).max() < accuracy
     assert res["drive.y"][4] == 3.0  # t = 1: the row after the step, as fmpy would set it
+
+
+def _mechfmu(*args, cwd=None):
+    import subprocess
+    import sys
+    return subprocess.run([sys.executable, "-m", "assemblies.cli", *args], capture_output=True,
+                          text=True, cwd=cwd)
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--start-time", "inf"], "start time must be finite, not inf"),
+    (["--start-time", "20", "--stop-time", "10"], "start time 20 s must be before the stop time 10 s"),
+    (["--inputs", "missing.csv"], "inputs: cannot read missing.csv: No such file or directory"),
+    (["--inputs", "in.csv"], "inputs: column 'block.f' is not an open input of assembly "
+                             "'stick_slip'; open inputs: (none)"),
+])
+def test_cli_start_time_and_inputs_errors_are_one_line(args, words, tmp_path):
+    (tmp_path / "in.csv").write_text("time,block.f\n0,1\n")
+    proc = _mechfmu("run", "stick_slip", *args, cwd=tmp_path)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines() == [f"mechfmu: error: {words}"]
+
+
+def test_cli_run_from_a_start_time(tmp_path):
+    """The scene's rows start at --start-time, and its settings say so."""
+    import json
+    proc = _mechfmu("run", "stick_slip", "--start-time", "1", "--stop-time", "3", "--step",
+                    "0.5", "--out", str(tmp_path))
+    assert proc.returncode in (0, 1), proc.stderr  # its figures are measured from t = 0
+    rows = (tmp_path / "stick_slip.csv").read_text().splitlines()
+    assert [float(r.split(",")[0]) for r in rows[1:]] == [1.0, 1.5, 2.0, 2.5, 3.0]
+    assert json.loads((tmp_path / "stick_slip.json").read_text())["settings"]["start_time"] == 1.0
