@@ -230,7 +230,7 @@ def _cmd_sweep(args) -> int:
         raise UsageError("sweep needs at least one --param INSTANCE.NAME=START:STOP:COUNT")
     table = sweep(args.scene, params, random=args.random, seed=args.seed,
                   outputs=args.output or (), workers=args.workers, scheduler=args.scheduler,
-                  stop_time=args.stop_time, mode=args.mode)
+                  stop_time=args.stop_time, mode=args.mode, start_time=args.start_time)
     paths = write_sweep(table, args.out, args.plot)
     shown = ["run", *params, "status", *table.attrs["outputs"],
              *[c for c in table.columns if f"{c}.ref" in table.columns], "error"]
@@ -357,6 +357,8 @@ def _parser() -> argparse.ArgumentParser:
                         "(repeatable); the scene's figures are always recorded")
     w.add_argument("--plot", action="append", metavar="COLUMN",
                    help="a column to plot (repeatable; default: the outputs, else figures)")
+    w.add_argument("--start-time", type=float, metavar="SECONDS",
+                   help="start of each run [s] (default: 0)")
     w.add_argument("--stop-time", type=float, help="simulated time of each run [s] "
                                                    "(default: the scene's)")
     w.add_argument("--mode", choices=("cosim", "me", "monolithic"),

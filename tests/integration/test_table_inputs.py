@@ -40,8 +40,8 @@ def lag() -> Assembly:
     return asm
 
 
-def closed_form(times, rows=ROWS, v0=0.0) -> np.ndarray:
-    """The lag from rest at t = 0 under the table, linear input piece by piece."""
+def closed_form(times, rows=ROWS, v0=0.0, w=W) -> np.ndarray:
+    """The lag (rate `w`) from rest at t = 0 under the table, linear input piece by piece."""
     T = [t for t, _ in rows]
     # pieces (start, end, value at start, slope): held before the first and after the
     # last row, linear between two rows at different times (equal times: the step)
@@ -61,7 +61,7 @@ def closed_form(times, rows=ROWS, v0=0.0) -> np.ndarray:
                 break
             ra = ya + b * (ts - start) if b else ya
             h = te - ts
-            v = ra + b * h - b / W + (v - ra + b / W) * math.exp(-W * h)
+            v = ra + b * h - b / w + (v - ra + b / w) * math.exp(-w * h)
             ts = te
         out.append(v)
     return np.array(out)
@@ -342,3 +342,27 @@ def test_cli_run_from_a_start_time(tmp_path):
     rows = (tmp_path / "stick_slip.csv").read_text().splitlines()
     assert [float(r.split(",")[0]) for r in rows[1:]] == [1.0, 1.5, 2.0, 2.5, 3.0]
     assert json.loads((tmp_path / "stick_slip.json").read_text())["settings"]["start_time"] == 1.0
+
+
+def test_a_sweep_runs_from_a_start_time():
+    """sweep(start_time=...) hands it to every run; a bad one is one line, before any run."""
+    from assemblies.scenes import Scene
+    from assemblies.sweep import sweep
+
+    sc = Scene("lag", "a lag fed by a table", lambda: _fed_lag(1.0), 5.0, 0.25, TOL,
+               ["src.v"], lambda res, asm: [], mode="me")
+    table = sweep(sc, {"src.f_crit": [0.5, 1.0]}, outputs=["src.v@3.0"], workers=0,
+                  progress=False, start_time=1.0)
+    assert list(table["status"]) == ["ok", "ok"]
+    for f_crit, v in zip(table["src.f_crit"], table["src.v@3.0"]):
+        # from rest at t0 = 1 under the table shifted by 1: the closed form at 3 - 1
+        assert abs(v - closed_form([2.0], w=2 * math.pi * f_crit)[0]) < 100 * TOL
+    with pytest.raises(AssemblyError, match="start time 6 s must be before the stop time 5 s"):
+        sweep(sc, {"src.f_crit": [1.0]}, workers=0, progress=False, start_time=6.0)
+
+
+def _fed_lag(shift):
+    asm = lag()
+    asm.add("drive", TimeTable(table=[(t + shift, y) for t, y in ROWS]))
+    asm.connect("drive.y", "src.v_ref")
+    return asm
