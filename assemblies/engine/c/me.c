@@ -702,10 +702,10 @@ static int advance(me_master *M, double target, eng_progress *progress)
         }
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
             bound = fmin(bound, t + fmax(1e-3, (bound - t) / 100.0));
-        bound = fmin(bound, t + h_max);
         /* no sliver before the target either: a step capped at h_max from an event
            located a hair early would end within round-off of it and leave its row out */
-        if (bound < target && target - bound <= eps_t) bound = target;
+        if (t + h_max < bound && !(bound == target && target - (t + h_max) <= eps_t))
+            bound = t + h_max;
         if (s->rest_group) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
