@@ -7,7 +7,7 @@ of one instance. Each column becomes a :class:`components.table_sources.TimeTabl
 connected to that input, so the run's masters, every mode and engine and an exported
 assembly FMU, see an ordinary FMU with its own events. fmpy's rules
 (:class:`fmpy.simulation.Input`): continuous Float64 inputs interpolated linearly,
-discrete ones held; two rows at one time are a discontinuity, with an event there;
+discrete and Int32 ones held; two rows at one time are a discontinuity, with an event there;
 before the first row the first value, after the last the last.
 
 The table is input, not code: its size is bounded, its times must be finite and
@@ -24,7 +24,7 @@ import numpy as np
 from components.interfaces import SIGNAL_IN, ComponentError
 from components.table_sources import MAX_ROWS, TimeTable
 
-from .assembly import Assembly, AssemblyError
+from .assembly import Assembly, AssemblyError, Connection
 
 MAX_COLUMNS = 256            # inputs fed from one table
 MAX_CSV_BYTES = 16 * 2**20   # a CSV of MAX_ROWS x MAX_COLUMNS numbers fits well within
@@ -157,18 +157,34 @@ def with_inputs(assembly: Assembly, inputs) -> Assembly:
                                 f"'{assembly.name}'; open inputs: {', '.join(names) or '(none)'}")
         instance, port = allowed[ref]
         domain = next(p.domain for p in assembly.components[instance].ports if p.name == port)
-        if domain.value_type != "Float64":
+        integer = domain.value_type == "Int32"
+        if integer:
+            _check_int32(column, values)
+        elif domain.value_type != "Float64":
             raise AssemblyError(f"inputs: column {column!r} feeds {ref}, a {domain.value_type} "
-                                "input; a table feeds Float64 inputs only")
+                                "input; a table feeds Float64 and Int32 inputs")
         table = _table_name(fed, instance, port)
-        interpolation = "hold" if _held(assembly.components[instance], port) else "linear"
+        held = integer or _held(assembly.components[instance], port)
         try:
             fed.add(table, TimeTable(table=np.column_stack([times, values]),
-                                     interpolation=interpolation))
+                                     interpolation="hold" if held else "linear"))
         except ComponentError as exc:  # the table was checked: only a bound can be left
             raise AssemblyError(f"inputs: column {column!r}: {exc}") from None
-        fed.connect(f"{table}.y", ref)
+        if integer:
+            # the table's Float64 output set on an Int32 input: the masters set the
+            # nearest integer, and the held values are whole, so it is each row's value
+            fed.connections.append(Connection(f"{table}.y", ref))
+        else:
+            fed.connect(f"{table}.y", ref)
     return fed
+
+
+def _check_int32(column: str, values: np.ndarray) -> None:
+    bad = np.flatnonzero((values != np.round(values)) | (np.abs(values) > 2**31 - 1))
+    if bad.size:
+        raise AssemblyError(f"inputs: column {column!r} feeds an Int32 input, and row "
+                            f"{bad[0] + 1} holds {values[bad[0]]:g}, not a whole number within "
+                            f"+-{2**31 - 1}")
 
 
 def _table_name(assembly: Assembly, instance: str, port: str) -> str:

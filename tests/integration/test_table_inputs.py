@@ -231,22 +231,25 @@ def test_run_scene_takes_inputs_and_a_start_time():
     assert np.abs(res["src.v"] - closed_form(res["time"] - 1.0)).max() < 100 * TOL
 
 
-# time, u (continuous: linear), d (discrete: held); rows on the 0.25 s output grid, so
-# that fixed communication steps meet every change of d as fmpy's variable steps do
-HOLD_ROWS = [(0.0, 0.0, 1.0), (1.0, 2.0, 1.0), (1.0, 2.0, -0.5), (2.5, -1.0, 3.0),
-             (3.0, 0.0, 3.0)]
+# time, u (continuous: linear), d (discrete: held), k (Integer: held); rows on the
+# 0.25 s output grid, so that fixed communication steps meet every change of d and k as
+# fmpy's variable steps do
+HOLD_ROWS = [(0.0, 0.0, 1.0, 1), (1.0, 2.0, 1.0, 1), (1.0, 2.0, -0.5, 4), (2.5, -1.0, 3.0, -3),
+             (3.0, 0.0, 3.0, -3)]
 
 
 def _hold_reference(t):
-    """x = integral of d held at each row's value until the next row; y = u linear."""
+    """x = integral of d held at each row's value until the next row; y = u linear;
+    k_out = k held."""
     x = np.where(t < 1.0, t, np.where(t < 2.5, 1.0 - 0.5 * (t - 1.0), 0.25 + 3.0 * (t - 2.5)))
     y = np.interp(t, [0.0, 1.0, 2.5, 3.0], [0.0, 2.0, -1.0, 0.0])
-    return x, y
+    k = np.where(t < 1.0, 1, np.where(t < 2.5, 4, -3))
+    return x, y, k
 
 
 def _hold_table(prefix=""):
     return np.array(HOLD_ROWS, dtype=[("time", float), (f"{prefix}u", float),
-                                      (f"{prefix}d", float)])
+                                      (f"{prefix}d", float), (f"{prefix}k", np.int32)])
 
 
 @pytest.mark.parametrize("how", ["c-me", "c-cosim", "fmpy-cosim", "fmpy.simulate_fmu-ME",
@@ -255,7 +258,7 @@ def test_a_discrete_input_is_held_and_a_continuous_one_interpolated(how):
     """A hand-written foreign FMU (tests/handmade/inputs_hold: x' = d for a discrete
     input d, y = u for a continuous one) fed one table by each master and by fmpy's
     simulate_fmu itself: d held from row to row (x piecewise linear, kinks at 1 and 2.5),
-    u linear (y at the output points), all to rounding. A single-instance assembly names
+    u linear (y at the output points), the Integer k held (k_out), all to rounding. A single-instance assembly names
     its inputs without the instance."""
     import sys
     import warnings
@@ -270,9 +273,9 @@ def test_a_discrete_input_is_held_and_a_continuous_one_interpolated(how):
         import fmpy
         res = fmpy.simulate_fmu(str(path), fmi_type="ModelExchange" if how.endswith("ME")
                                 else "CoSimulation", input=_hold_table(), stop_time=4.0,
-                                output_interval=0.25, output=["x", "y"])
+                                output_interval=0.25, output=["x", "y", "k_out"])
         keep = np.r_[np.diff(res["time"]) > 0, True]  # fmpy's rows before each event go
-        t, x, y = res["time"][keep], res["x"][keep], res["y"][keep]
+        t, x, y, k = res["time"][keep], res["x"][keep], res["y"][keep], res["k_out"][keep]
     else:
         asm = Assembly("held")
         asm.add("plant", FMU(path))
@@ -281,11 +284,13 @@ def test_a_discrete_input_is_held_and_a_continuous_one_interpolated(how):
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             res = fn(asm, 4.0, 0.25, TOL, inputs=_hold_table(), **kw)
-        t, x, y = res["time"], res["plant.x"], res["plant.y"]
+        t, x, y, k = res["time"], res["plant.x"], res["plant.y"], res["plant.k_out"]
         assert res["plant_d_table.y"][9] == -0.5  # t = 2.25: held, not 0.5 interpolated
     assert len(t) == 17
-    x_ref, y_ref = _hold_reference(t)
+    x_ref, y_ref, k_ref = _hold_reference(t)
     assert np.abs(x - x_ref).max() < 1e-9
+    if how != "fmpy.simulate_fmu-CS":
+        assert np.array_equal(k, k_ref)
     if how != "fmpy.simulate_fmu-CS":  # fmpy's CS rows read y after a step, with the u
         assert np.abs(y - y_ref).max() < 1e-12  # set before it: a step behind
 
@@ -366,3 +371,19 @@ def _fed_lag(shift):
     asm.add("drive", TimeTable(table=[(t + shift, y) for t, y in ROWS]))
     asm.connect("drive.y", "src.v_ref")
     return asm
+
+
+def test_an_integer_input_takes_whole_numbers_only():
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parents[1]))
+    from handmade_fmus import handmade_fmu
+
+    from assemblies import FMU
+    asm = Assembly("held")
+    asm.add("plant", FMU(handmade_fmu("inputs_hold")))
+    bad = np.array([(0.0, 1.0), (1.0, 1.5)], dtype=[("time", float), ("k", float)])
+    with pytest.raises(AssemblyError, match=r"column 'k' feeds an Int32 input, and row 2 holds "
+                                            r"1.5, not a whole number within \+-2147483647"):
+        C.simulate_me(asm, 4.0, 0.25, inputs=bad)

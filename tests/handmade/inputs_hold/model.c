@@ -1,13 +1,15 @@
-/* inputs_hold: x' = d for a discrete input d, and y = u for a continuous input u, FMI 2
+/* inputs_hold: x' = d for a discrete input d, y = u for a continuous input u and
+   k_out = k for an Integer input k, FMI 2
    Model Exchange and Co-Simulation. Whatever an importer feeds d between events shows
-   in x (a held d makes x piecewise linear), and whatever it feeds u at a point shows in
-   y there; the Co-Simulation step integrates x exactly for the d set before it. */
+   in x (a held d makes x piecewise linear), and whatever it feeds u and k at a point
+   shows in y and k_out there; the Co-Simulation step integrates x exactly for the d set before it. */
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
 
 typedef struct {
     double time, u, d, x;
+    int k;
 } Instance;
 
 #define UNUSED(x) (void)(x)
@@ -62,7 +64,12 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     return fmi2OK;
 }
 fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
+    Instance *s = c;
+    for (size_t i = 0; i < n; i++) {
+        if (vr[i] != 5 && vr[i] != 6) return fmi2Error;
+        v[i] = s->k;
+    }
+    return fmi2OK;
 }
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[]) {
     UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
@@ -71,7 +78,12 @@ fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
     UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
 }
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
+    Instance *s = c;
+    for (size_t i = 0; i < n; i++) {
+        if (vr[i] != 5) return fmi2Error;
+        s->k = v[i];
+    }
+    return fmi2OK;
 }
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[]) {
     UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
