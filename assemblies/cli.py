@@ -135,7 +135,7 @@ def _cmd_run(args) -> int:
     from assemblies.run import run_scene_full
     from assemblies.scenes import scene
     stop = args.stop_time if args.stop_time is not None else scene(args.scene).stop_time
-    progress = ProgressReport(stop)
+    progress = ProgressReport(stop, start_time=args.start_time or 0.0)
     try:
         run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
                              tolerance=args.tolerance, params=params,
