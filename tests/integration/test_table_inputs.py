@@ -295,26 +295,29 @@ def test_a_discrete_input_is_held_and_a_continuous_one_interpolated(how):
         assert np.abs(y - y_ref).max() < 1e-12  # set before it: a step behind
 
 
+@pytest.mark.parametrize("t0", [0.0, 1.5])
 @pytest.mark.parametrize("mode", ["me", "cosim"])
-def test_a_time_table_inside_an_exported_assembly_fmu(mode, tmp_path):
+def test_a_time_table_inside_an_exported_assembly_fmu(mode, t0, tmp_path):
     """Every element is an FMU, so a TimeTable travels inside an assembly exported as one
-    FMU: fmpy runs it with no input of its own, and the lag inside meets the closed form
-    (fmpy's output points are the exported FMU's communication points)."""
+    FMU: fmpy runs it with no input of its own, from its start time t0 (the table shifted
+    alike), and the lag inside meets the closed form (fmpy's output points are the
+    exported FMU's communication points)."""
     from fmpy import simulate_fmu
     from fmpy.validation import validate_fmu
 
     from assemblies import export_fmu
     asm = lag()
-    asm.add("drive", TimeTable(table=ROWS))
+    asm.add("drive", TimeTable(table=[(t + t0, y) for t, y in ROWS]))
     asm.connect("drive.y", "src.v_ref")
     settings = {"adaptive": True, "extrapolation": 1, "tol": 1e-8} if mode == "cosim" else {}
     path = export_fmu(asm, tmp_path / f"lag_{mode}.fmu", outputs=["src.v", "drive.y"],
                       stop_time=4.0, step=0.25, tolerance=TOL, mode=mode, **settings)
     assert validate_fmu(str(path)) == []
-    res = simulate_fmu(str(path), stop_time=4.0, output_interval=0.25)
+    res = simulate_fmu(str(path), start_time=t0, stop_time=t0 + 4.0, output_interval=0.25)
+    assert res["time"][0] == t0
     accuracy = 100 * (TOL if mode == "me" else settings["tol"])
-    assert np.abs(res["src.v"] - closed_form(res["time"])).max() < accuracy
-    assert res["drive.y"][4] == 3.0  # t = 1: the row after the step, as fmpy would set it
+    assert np.abs(res["src.v"] - closed_form(res["time"] - t0)).max() < accuracy
+    assert res["drive.y"][4] == 3.0  # t0 + 1: the row after the step, as fmpy would set it
 
 
 def _mechfmu(*args, cwd=None):
