@@ -135,14 +135,15 @@ def _cmd_run(args) -> int:
     from assemblies.run import run_scene_full
     from assemblies.scenes import scene
     stop = args.stop_time if args.stop_time is not None else scene(args.scene).stop_time
-    progress = ProgressReport(stop)
+    progress = ProgressReport(stop, start_time=args.start_time or 0.0)
     try:
         run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
                              tolerance=args.tolerance, params=params,
                              out=out, scheme=args.scheme, progress=progress, mode=args.mode,
                              adaptive=False if args.fixed_step else args.adaptive,
                              extrapolation=args.extrapolation, engine=args.engine,
-                             jacobian=args.jacobian)
+                             jacobian=args.jacobian, start_time=args.start_time,
+                             inputs=args.inputs)
     finally:
         progress.close()
     print(run.table(verdict=False))
@@ -230,7 +231,7 @@ def _cmd_sweep(args) -> int:
         raise UsageError("sweep needs at least one --param INSTANCE.NAME=START:STOP:COUNT")
     table = sweep(args.scene, params, random=args.random, seed=args.seed,
                   outputs=args.output or (), workers=args.workers, scheduler=args.scheduler,
-                  stop_time=args.stop_time, mode=args.mode)
+                  stop_time=args.stop_time, mode=args.mode, start_time=args.start_time)
     paths = write_sweep(table, args.out, args.plot)
     shown = ["run", *params, "status", *table.attrs["outputs"],
              *[c for c in table.columns if f"{c}.ref" in table.columns], "error"]
@@ -275,9 +276,15 @@ def _parser() -> argparse.ArgumentParser:
                                                    "`mechfmu scenes` says what each is)")
     r.add_argument("--stop-time", type=float, metavar="SECONDS",
                    help="end of the run [s] (default: the scene's own)")
+    r.add_argument("--start-time", type=float, metavar="SECONDS",
+                   help="start of the run [s], before the stop time (default: 0)")
     r.add_argument("--step", type=float, metavar="SECONDS",
                    help="communication step [s] with --fixed-step, else the output interval "
                         "(default: the scene's own)")
+    r.add_argument("--inputs", metavar="FILE.csv",
+                   help="a table feeding the scene's open signal inputs: a header row "
+                        "'time,INSTANCE.INPUT,...' and a row per time; linear between rows "
+                        "(discrete inputs held), two rows at one time a step")
     r.add_argument("--tolerance", type=float,
                    help="relative tolerance of the FMUs' solvers, in [1e-14, 1) (default: the "
                         "scene's own)")
@@ -356,6 +363,8 @@ def _parser() -> argparse.ArgumentParser:
                         "(repeatable); the scene's figures are always recorded")
     w.add_argument("--plot", action="append", metavar="COLUMN",
                    help="a column to plot (repeatable; default: the outputs, else figures)")
+    w.add_argument("--start-time", type=float, metavar="SECONDS",
+                   help="start of each run [s] (default: 0)")
     w.add_argument("--stop-time", type=float, help="simulated time of each run [s] "
                                                    "(default: the scene's)")
     w.add_argument("--mode", choices=("cosim", "me", "monolithic"),

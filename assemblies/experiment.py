@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
@@ -11,18 +12,30 @@ from .assembly import AssemblyError
 
 
 def check_experiment(stop_time: float, step: float, tolerance: float,
-                     step_name: str = "communication step") -> None:
+                     step_name: str = "communication step", start_time: float = 0.0) -> None:
     """Reject what no master can run, naming the setting and what is allowed."""
     positive_finite(stop_time, "stop time", AssemblyError)
     positive_finite(step, step_name, AssemblyError)
     check_tolerance(tolerance, "tolerance", AssemblyError)
+    check_start_time(start_time, stop_time)
 
 
-def output_times(stop_time: float, step: float) -> np.ndarray:
-    """0, step, 2 step, ... and the stop time last (a last interval may be shorter);
+def check_start_time(start_time: float, stop_time: float) -> None:
+    """One line where the start time is not a finite number before the stop time."""
+    if isinstance(start_time, bool) or not isinstance(start_time, numbers.Real):
+        raise AssemblyError(f"start time must be a number, not {start_time!r}")
+    if not math.isfinite(start_time):
+        raise AssemblyError(f"start time must be finite, not {start_time!r}")
+    if not start_time < stop_time:
+        raise AssemblyError(f"start time {start_time:g} s must be before the stop time "
+                            f"{stop_time:g} s")
+
+
+def output_times(stop_time: float, step: float, start_time: float = 0.0) -> np.ndarray:
+    """start, start + step, ... and the stop time last (a last interval may be shorter);
     built by numpy, since a long run has millions of rows."""
-    n_out = max(1, math.ceil(stop_time / step - 1e-9))
-    times = np.minimum(np.arange(n_out + 1) * step, stop_time)
+    n_out = max(1, math.ceil((stop_time - start_time) / step - 1e-9))
+    times = np.minimum(start_time + np.arange(n_out + 1) * step, stop_time)
     times[-1] = stop_time
     return times
 

@@ -22,7 +22,8 @@ def _duration(seconds: float) -> str:
 
 
 class ProgressReport:
-    """``report(t)`` for a run from 0 to `stop_time`; call :meth:`close` when it ends.
+    """``report(t)`` for a run from `start_time` (0) to `stop_time`; call :meth:`close`
+    when it ends.
 
     The engines call it about every 0.25 s of wall time; a bar redraws on each call,
     a log gets its first line once the run has taken `quiet_for` seconds and then one
@@ -35,8 +36,8 @@ class ProgressReport:
     def __init__(self, stop_time: float, stream: TextIO | None = None, log_interval: float = 5.0,
                  quiet_for: float = 2.0, width: int = 30,
                  clock: Callable[[], float] = wallclock.perf_counter, name: str = "t",
-                 unit: str = " s"):
-        self.name, self.unit = name, unit
+                 unit: str = " s", start_time: float = 0.0):
+        self.name, self.unit, self.start_time = name, unit, start_time
         self.stop_time, self.stream = stop_time, stream or sys.stderr
         self.log_interval, self.quiet_for, self.width = log_interval, quiet_for, width
         self.clock = clock
@@ -47,7 +48,7 @@ class ProgressReport:
 
     def status(self, t: float, elapsed: float) -> str:
         """``t = 8 / 100 s (8.0 %), 12 s elapsed, about 2 min 18 s left``."""
-        fraction = min(1.0, max(0.0, t / self.stop_time)) if self.stop_time > 0 else 1.0
+        fraction = self._fraction(t)
         left = (f"about {_duration(elapsed * (1 - fraction) / fraction)} left" if fraction > 0
                 else "time left not known yet")
         return (f"{self.name} = {t:.6g} / {self.stop_time:g}{self.unit} ({100 * fraction:.1f} %), "
@@ -59,7 +60,7 @@ class ProgressReport:
         if elapsed < self.quiet_for:
             return
         if self.terminal:
-            fraction = min(1.0, max(0.0, t / self.stop_time)) if self.stop_time > 0 else 1.0
+            fraction = self._fraction(t)
             filled = round(fraction * self.width)
             bar = "#" * filled + "-" * (self.width - filled)
             # \033[K clears what a longer line before left behind
@@ -69,6 +70,10 @@ class ProgressReport:
         elif self.last_line is None or now - self.last_line >= self.log_interval:
             print(f"  {self.status(t, elapsed)}", file=self.stream, flush=True)
             self.last_line = now
+
+    def _fraction(self, t: float) -> float:
+        span = self.stop_time - self.start_time
+        return min(1.0, max(0.0, (t - self.start_time) / span)) if span > 0 else 1.0
 
     def close(self) -> None:
         if self.drawn:

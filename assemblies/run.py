@@ -6,9 +6,12 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from components.table_sources import TimeTable
+
 from .assembly import AssemblyError
 from .engine.cosim import DEFAULT_SCHEME as DEFAULT_COSIM
 from .foreign import check_mode
+from .inputs import with_inputs
 from .masters.cosim import cosimulate
 from .masters.me import simulate_me
 from .masters.monolithic import simulate_monolithic
@@ -99,7 +102,8 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
               out: str | Path | None = None, scheme: str | None = None, progress=None,
               mode: str | None = None, adaptive: bool | float | None = None,
               extrapolation: int | None = None, engine: str = "c", prune: bool = True,
-              jacobian: str | None = None) -> Result:
+              jacobian: str | None = None, start_time: float | None = None,
+              inputs=None) -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
     `mode` picks the master: ``cosim`` (Co-Simulation FMUs), ``me`` (Model Exchange FMUs
@@ -126,9 +130,15 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     FMU): ``auto`` (default) takes directional derivatives unless a foreign FMU's
     disagree with differences at the first point, ``fd`` finite differences, ``exact``
     directional derivatives whatever happens.
+
+    The run starts at `start_time` (None: 0). `inputs` feeds the scene's open signal
+    inputs from a table: a numpy structured array or pandas DataFrame with a ``time``
+    column, or a CSV path; each other column names an input, ``INSTANCE.INPUT``
+    (:mod:`assemblies.inputs`: fmpy's interpolation rules, an event at every row).
     """
     return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
-                          mode, adaptive, extrapolation, engine, prune, jacobian).result
+                          mode, adaptive, extrapolation, engine, prune, jacobian=jacobian,
+                          start_time=start_time, inputs=inputs).result
 
 
 def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> dict:
@@ -163,7 +173,8 @@ def check_cosim_only(mode: str, **settings) -> None:
 
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
-                   extrapolation=None, engine="c", prune=True, jacobian=None) -> SceneRun:
+                   extrapolation=None, engine="c", prune=True, jacobian=None, start_time=None,
+                   inputs=None) -> SceneRun:
     """As :func:`run_scene`, with the figures; `name` may also be a :class:`Scene` that is
     not in the registry (a parameter study runs an assembly given to it as one)."""
     sc = name if isinstance(name, Scene) else scene(name)
@@ -181,14 +192,19 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     for key, value in (params or {}).items():
         asm.set(key, value)
     check_mode(asm, mode)  # a foreign FMU the mode cannot run: one line, before any work
+    # tables first: pruning then drops a table whose input is not needed
+    fed = with_inputs(asm, inputs)
     # the figures read the whole assembly's values; the masters run what the record needs
-    run_asm, pruned = prune_unrecorded(asm, sc.record) if prune else (asm, [])
+    run_asm, pruned = prune_unrecorded(fed, sc.record) if prune else (fed, [])
     common = dict(stop_time=stop_time if stop_time is not None else sc.stop_time,
                   step=step if step is not None else sc.step,
                   tolerance=tolerance if tolerance is not None else sc.tolerance,
-                  record=sc.record, progress=progress)
+                  record=sc.record, progress=progress,
+                  start_time=0.0 if start_time is None else start_time)
     run_cosim, run_me, run_monolithic = _masters(engine)
-    single_fmu = (engine == "c" and len(run_asm.components) == 1 and adaptive is None
+    # a single FMU fed by tables is still one FMU to run: the tables' events join its own
+    members = [c for c in run_asm.components.values() if not isinstance(c, TimeTable)]
+    single_fmu = (engine == "c" and len(members) == 1 and adaptive is None
                   and extrapolation is None and scheme is None)
     if jacobian is not None:
         if engine != "c" or (mode == "cosim" and not single_fmu):

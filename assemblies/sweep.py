@@ -41,6 +41,7 @@ import pandas as pd
 from components.interfaces import ComponentError
 
 from .assembly import Assembly, AssemblyError
+from .experiment import check_start_time
 from .masters.cosim import SimulationError
 from .scenes import Scene, scene
 
@@ -299,7 +300,8 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
           scheduler=None, stop_time: float | None = None, step: float | None = None,
           tolerance: float | None = None, mode: str | None = None, engine: str = "c",
           progress: bool | Callable[[int], None] = True, chunk: int | None = None,
-          out: str | Path | None = None, plot: list[str] | None = None) -> pd.DataFrame:
+          out: str | Path | None = None, plot: list[str] | None = None,
+          start_time: float | None = None) -> pd.DataFrame:
     """Run `target` (a scene name, a Scene, or an Assembly) over `params` on Dask.
 
     `params`: ``{"INSTANCE.NAME": values}``, values as :func:`parse_values` reads them
@@ -312,6 +314,7 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     :func:`chunk_sizes`). `progress`: a bar over runs on a terminal (a line every few
     seconds in a log), or a callable given the number of runs done. With `out`, writes
     the table, its JSON and a plot of `plot` columns there (:func:`write_sweep`).
+    `start_time`: where each run starts (None: 0).
 
     Returns one row per run, in design order: ``run``, the parameters, ``status``
     (``ok``/``failed``), ``error``, the scene's figures (measured; ``NAME.ref`` the
@@ -319,11 +322,14 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     describes the study.
     """
     sc = as_scene(target, stop_time, step, tolerance)
+    if start_time is not None:  # one line now, not a failed row per run
+        check_start_time(start_time, sc.stop_time if stop_time is None else stop_time)
     outputs = [o if isinstance(o, Output) else parse_output(o) for o in outputs]
     runs = design(params, random, seed)
     _check_names(sc, list(params), outputs)
     settings = {k: v for k, v in dict(stop_time=stop_time, step=step, tolerance=tolerance,
-                                      mode=mode, engine=engine).items() if v is not None}
+                                      mode=mode, engine=engine,
+                                      start_time=start_time).items() if v is not None}
     report = _progress(progress, len(runs))
     started = wallclock.perf_counter()
     try:

@@ -16,6 +16,7 @@ from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 from .sensors import ForceSensor, PositionSensor, SpeedSensor
 from .sources import ConstantSpeed, Position, Speed
 from .spring_block import SpringBlock
+from .table_sources import TimeTable
 from .rotational import Motor, TorsionalSpring
 from .translational import MassWithFriction, Spring, SpringDamper
 
@@ -23,12 +24,13 @@ COMPONENTS = {cls.__name__: cls for cls in (
     SpringBlock, ConstantSpeed, SineMotion, HarmonicMotion, ConstantForce, AssumedModesBeam,
     RigidBodyOnAxle, InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin,
     TorqueFreeBody, NutationDamperBody, WobblingDisk, Skate, MassWithFriction, Spring,
-    SpringDamper, TorsionalSpring, Motor, Force, Position, Speed, PositionSensor, SpeedSensor, ForceSensor)}
+    SpringDamper, TorsionalSpring, Motor, Force, Position, Speed, PositionSensor, SpeedSensor, ForceSensor,
+    TimeTable)}
 
 __all__ = ["AssumedModesBeam", "Block", "COMPONENTS", "Component", "ComponentError",
            "ConstantForce", "ConstantSpeed", "FlatModel", "Force", "ForceSensor",
            "HarmonicMotion", "SineMotion", "HemisphericalShell", "InclinedCylinder",
            "MassWithFriction", "Motor", "NutationDamperBody", "Parameter", "Port", "Position",
            "PositionSensor", "Profile", "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Speed",
-           "SpeedSensor", "Spring", "SpringBlock", "SpringDamper", "State", "TorsionalSpring",
+           "SpeedSensor", "Spring", "SpringBlock", "SpringDamper", "State", "TimeTable", "TorsionalSpring",
            "TorqueFreeBody", "WobblingDisk", "flatten"]

@@ -31,6 +31,7 @@ from ..assembly import Assembly, AssemblyError
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                           fixed_step_fallback, output_times)
 from ..foreign import check_mode
+from ..inputs import with_inputs
 from ..masters.extrapolation import derivative_couplings, is_held
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
@@ -139,8 +140,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                progress: Callable[[float], None] | None = None, extrapolation: int = 0,
                adaptive: bool = False, tol: float = 1e-4, loop_tolerance: float = 1e-10,
                max_loop_iterations: int = 20, newton: bool = True,
-               event_sync: bool | None = None) -> Result:
-    """Co-simulate `assembly` from 0 to `stop_time` in the compiled engine.
+               event_sync: bool | None = None, start_time: float = 0.0,
+               inputs=None) -> Result:
+    """Co-simulate `assembly` from `start_time` to `stop_time` in the compiled engine.
 
     Same arguments and result as :func:`assemblies.masters.cosim.cosimulate` (see
     there), plus `event_sync` (None: on exactly when `adaptive`): steps end at the
@@ -157,9 +159,11 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     stopped, with the rows so far and ``settings["terminated"]`` (instance, time, message). `progress(t)` is called about every 0.25 s of wall time;
     Ctrl-C (or an exception in `progress`, raised again afterwards) stops the run
     cleanly, keeping the rows computed (``settings["stopped"]``). With
-    ``**DEFAULT_SCHEME`` a friction assembly comes out right (module doc).
+    ``**DEFAULT_SCHEME`` a friction assembly comes out right (module doc). `inputs`:
+    a table feeding open inputs (:mod:`assemblies.inputs`).
     """
-    check_experiment(stop_time, step, tolerance)
+    check_experiment(stop_time, step, tolerance, start_time=start_time)
+    assembly = with_inputs(assembly, inputs)
     check_cosim_settings(scheme, extrapolation, adaptive, tol)
     if not (isinstance(max_loop_iterations, int) and max_loop_iterations >= 1):
         raise AssemblyError(f"max_loop_iterations must be an integer >= 1, not {max_loop_iterations!r}")
@@ -221,7 +225,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     columns = record_columns(fmus, record)
     spec.n_columns, spec.columns = len(columns), keep.array(Variable, [var(i, v) for i, v in columns])
 
-    times = output_times(stop_time, step)
+    times = output_times(stop_time, step, start_time)
     out = np.empty((len(times), 1 + len(columns)))  # the C writes rows [0, n_rows)
     spec.n_times, spec.times = len(times), keep.numpy(times, C.c_double)
     spec.out = keep.numpy(out, C.c_double)
@@ -258,7 +262,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                       "message": stats.message.decode("utf-8", "replace")}
     out = out[:stats.n_rows]
     header = ["time"] + [f"{i}.{v}" for i, v in columns]
-    settings = {"engine": "c", "stop_time": stop_time, "step": step, "tolerance": tolerance,
+    settings = {"engine": "c", "start_time": start_time, "stop_time": stop_time, "step": step, "tolerance": tolerance,
                 "scheme": scheme, "extrapolation": extrapolation, "adaptive": bool(adaptive),
                 "event_sync": event_sync, "wall_s": wallclock.perf_counter() - started,
                 "setup_s": setup_s,

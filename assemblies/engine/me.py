@@ -27,6 +27,7 @@ from fmus.build import component_facts, recipes
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment, output_times
 from ..foreign import check_mode
+from ..inputs import with_inputs
 from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
@@ -123,17 +124,17 @@ class _Plan:
             f_values[:len(floats)] = [values[k] for k in floats]
             i_values[:len(ints)] = [int(values[k]) for k in ints]
 
-    def _buffers(self, stop_time, step):
+    def _buffers(self, start_time, stop_time, step):
         """The output times, the buffers the C writes (rows, when each instance fell
         asleep) and their addresses: kept for the next run of the same grid, since
         numpy's ctypes addresses cost microseconds each, as much as a short run's
         integration (the plan's lock makes the buffers one run's at a time)."""
-        if self.grid is None or self.grid[0] != (stop_time, step):
-            times = output_times(stop_time, step)
+        if self.grid is None or self.grid[0] != (start_time, stop_time, step):
+            times = output_times(stop_time, step, start_time)
             out = np.empty((len(times), len(self.column_names)))
             asleep = np.empty(len(self.names))
             dp = C.POINTER(C.c_double)
-            self.grid = ((stop_time, step), (times, out, asleep, tuple(
+            self.grid = ((start_time, stop_time, step), (times, out, asleep, tuple(
                 a.ctypes.data_as(dp) for a in (times, out, asleep))))
         return self.grid[1]
 
@@ -142,10 +143,10 @@ class _Plan:
             self.rest_group = self.keep.array(C.c_int, groups)
 
     def run(self, name, stop_time, step, tolerance, method, progress, event_subsamples,
-            scheme, jacobian="auto") -> tuple[dict, list, dict]:
+            scheme, jacobian="auto", start_time=0.0) -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
         lib = _engine()
-        times, out, asleep, pointers = self._buffers(stop_time, step)
+        times, out, asleep, pointers = self._buffers(start_time, stop_time, step)
         asleep.fill(np.inf)
         prog = B.Progress(progress)
         spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
@@ -180,7 +181,8 @@ class _Plan:
             table[column] = rows[:, k]
         by = stats.terminated_by
         settings = {
-            "stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": scheme,
+            "start_time": start_time, "stop_time": stop_time, "step": step,
+            "tolerance": tolerance, "scheme": scheme,
             "method": method, "engine": "c", "wall_s": wall, "engine_s": wall,
             "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
             "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
@@ -249,8 +251,8 @@ def _plan(key, build) -> _Plan:
     return plan
 
 
-def _check(stop_time, step, tolerance, method, jacobian="auto"):
-    check_experiment(stop_time, step, tolerance, "output step")
+def _check(stop_time, step, tolerance, method, start_time, jacobian="auto"):
+    check_experiment(stop_time, step, tolerance, "output step", start_time)
     if method is not None and method not in METHODS:
         raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
     if jacobian not in JACOBIANS:
@@ -288,15 +290,17 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                 record: list[str] | None = None, method: str | None = None,
                 progress: Callable[[float], None] | None = None,
                 event_subsamples: int = EVENT_SUBSAMPLES, fmi_version: int = 3,
-                jacobian: str = "auto") -> Result:
+                jacobian: str = "auto", start_time: float = 0.0, inputs=None) -> Result:
     """Integrate `assembly` as Model Exchange FMUs in the engine; a row every `step` s.
 
     Same result as :func:`assemblies.masters.me.simulate_me`. `event_subsamples`:
     interior points of each step where the indicators are sampled, so that one
     crossing twice inside a step is found (0: step ends only). `jacobian`: see
-    :data:`JACOBIANS` (a fallback warns with :class:`JacobianFallback`).
+    :data:`JACOBIANS` (a fallback warns with :class:`JacobianFallback`). The run starts
+    at `start_time`; `inputs`, a table feeding open inputs (:mod:`assemblies.inputs`).
     """
-    _check(stop_time, step, tolerance, method, jacobian)
+    _check(stop_time, step, tolerance, method, start_time, jacobian)
+    assembly = with_inputs(assembly, inputs)
     check_mode(assembly, "me")  # a Co-Simulation-only FMU: named, with the modes that apply
     started = wallclock.perf_counter()
 
@@ -329,7 +333,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         plan.set_starts([{**c.values, **c.starts} for c in assembly.components.values()])
         table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
                                            integrator(assembly, method), progress,
-                                           event_subsamples, "me", jacobian)
+                                           event_subsamples, "me", jacobian, start_time)
     tables = {plan.names[i]: Table.from_rows(["time"] + [f"{plan.names[i]}.{v}" for v in outputs],
                                              rows)
               for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
@@ -343,14 +347,16 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                         method: str | None = None,
                         progress: Callable[[float], None] | None = None,
                         event_subsamples: int = EVENT_SUBSAMPLES,
-                        jacobian: str = "auto") -> Result:
+                        jacobian: str = "auto", start_time: float = 0.0,
+                        inputs=None) -> Result:
     """The assembly joined into one composite FMU, run by the engine as a single FMU.
 
     Same result as :func:`assemblies.masters.monolithic.simulate_monolithic`; each
     member's events are told apart by the composite's indicators that member owns.
-    `jacobian`: as for :func:`simulate_me`.
+    `jacobian`, `start_time` and `inputs`: as for :func:`simulate_me`.
     """
-    _check(stop_time, step, tolerance, method, jacobian)
+    _check(stop_time, step, tolerance, method, start_time, jacobian)
+    assembly = with_inputs(assembly, inputs)
     check_mode(assembly, "monolithic")  # a foreign FMU has no equations to join
     started = wallclock.perf_counter()
 
@@ -397,7 +403,8 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                           for k, v in {**c.values, **c.starts}.items()}])
         table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
                                            integrator(assembly, method), progress,
-                                           event_subsamples, "monolithic", jacobian)
+                                           event_subsamples, "monolithic", jacobian,
+                                           start_time)
     table = {("time" if k == "time" else k.removeprefix("assembly.")): v for k, v in table.items()}
     tables = {member: Table.from_rows(["time"] + outputs, rows)
               for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)

@@ -48,8 +48,9 @@ from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
-                          fixed_step_fallback, restore_mismatch)
+                          fixed_step_fallback, output_times, restore_mismatch)
 from ..foreign import FMU, check_mode
+from ..inputs import with_inputs
 from ..result import Result, Table
 from .adaptive import StepController
 from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
@@ -183,13 +184,16 @@ class _Instance:
         except Exception as exc:  # pragma: no cover - reported after the step
             self.messages.append(f"recording the event at t = {t}: {exc}")
 
-    def enter_initialization(self, tolerance: float, stop_time: float) -> None:
+    def enter_initialization(self, tolerance: float, stop_time: float,
+                             start_time: float = 0.0) -> None:
+        self.step_start = start_time
         if self.fmi_version == 2:
-            self.call("setup experiment", self.fmu.setupExperiment, tolerance, 0.0, stop_time)
+            self.call("setup experiment", self.fmu.setupExperiment, tolerance, start_time,
+                      stop_time)
             self.call("enter initialization", self.fmu.enterInitializationMode)
         else:
             self.call("enter initialization", self.fmu.enterInitializationMode,
-                      tolerance, 0.0, stop_time)
+                      tolerance, start_time, stop_time)
 
     def do_step(self, t: float, h: float, final: bool = False) -> tuple[bool, float]:
         """doStep from `t` over `h`: (the model asks to terminate, time reached).
@@ -482,8 +486,10 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                progress: Callable[[float], None] | None = None, extrapolation: int = 0,
                adaptive: bool = False, tol: float = 1e-4, loop_tolerance: float = 1e-10,
                max_loop_iterations: int = 20, newton: bool = True,
-               event_sync: bool | None = None) -> Result:
-    """Co-simulate `assembly` from 0 to `stop_time`.
+               event_sync: bool | None = None, start_time: float = 0.0,
+               inputs=None) -> Result:
+    """Co-simulate `assembly` from `start_time` to `stop_time`; `inputs`, a table
+    feeding open inputs (:mod:`assemblies.inputs`).
 
     `step` is the communication step; with ``adaptive=True`` it is the output interval
     and the largest step, and steps are chosen so that the estimated global error of
@@ -509,8 +515,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     intermediate update: event synchronisation sees no events located inside its steps.
     A Model-Exchange-only foreign FMU is refused (:func:`assemblies.foreign.check_mode`).
     """
-    check_experiment(stop_time, step, tolerance)
+    check_experiment(stop_time, step, tolerance, start_time=start_time)
     check_cosim_settings(scheme, extrapolation, adaptive, tol)
+    assembly = with_inputs(assembly, inputs)
     event_sync = bool(adaptive) if event_sync is None else bool(event_sync)
     check_mode(assembly, "cosim")  # a Model-Exchange-only FMU: named, with the modes that apply
     couplings = assembly.couplings()
@@ -548,24 +555,23 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             comp = inst.component
             for key, value in comp.fmu_starts().items():
                 inst.set(key, value)
-            inst.enter_initialization(tolerance, stop_time)
-        master.consistent(0.0)
+            inst.enter_initialization(tolerance, stop_time, start_time)
+        master.consistent(start_time)
         for inst in instances.values():
             inst.call("exit initialization", inst.fmu.exitInitializationMode)
-        master.consistent(0.0)
-        n_out = max(1, math.ceil(stop_time / step - 1e-9))
-        out_times = [min((k + 1) * step, stop_time) for k in range(n_out)]
-        out_times[-1] = stop_time
+        master.consistent(start_time)
+        out_times = output_times(stop_time, step, start_time)[1:].tolist()
         stepper = _Stepper(master, out_times, step, tolerance, adaptive=bool(adaptive), tol=tol,
                            extrapolation=extrapolation, event_sync=event_sync, sample=sample,
-                           progress=progress)
+                           progress=progress, start_time=start_time)
         rows = stepper.run()
         names = ["time"] + [f"{i}.{v}" for i, v in columns]
         table = Table.from_rows(names, rows)
         events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in inst.outputs],
                                         inst.event_rows)
                   for name, inst in instances.items() if inst.event_rows}
-        settings = {"stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": scheme,
+        settings = {"start_time": start_time, "stop_time": stop_time, "step": step,
+                    "tolerance": tolerance, "scheme": scheme,
                     "extrapolation": extrapolation, "adaptive": bool(adaptive),
                     "event_sync": event_sync, "wall_s": wallclock.perf_counter() - started,
                     "terminated": master.terminated, "do_steps": master.do_steps,
@@ -657,18 +663,19 @@ class _Stepper:
 
     def __init__(self, master: _Master, out_times: list[float], step: float,
                  tolerance: float, *, adaptive: bool, tol: float, extrapolation: int,
-                 event_sync: bool, sample, progress):
+                 event_sync: bool, sample, progress, start_time: float = 0.0):
         self.master, self.out_times, self.tolerance = master, out_times, tolerance
         self.adaptive, self.event_sync, self.extrapolation = adaptive, event_sync, extrapolation
         self.rollback = adaptive or event_sync
         self.sample, self.progress = sample, progress
         # global order of the coupling: 1 with a zero-order hold, 2 with a step-mean
         # extrapolation (see assemblies.extrapolation for why not 3 with quadratic)
-        self.ctrl = StepController(tol, 1 if extrapolation == 0 else 2, out_times[-1], step)
+        self.ctrl = StepController(tol, 1 if extrapolation == 0 else 2,
+                                   out_times[-1] - start_time, step)
         master.defect_tol = tol
-        self.t = 0.0
+        self.t = start_time
         self.h = step / 4 if adaptive else step  # the next adaptive step
-        self.rows = [sample(0.0)]
+        self.rows = [sample(start_time)]
         self.snap: _Snapshot | None = None  # the state at the start of the step in progress
         self.prev: _Snapshot | None = None  # ... of the step before it (None: no step yet)
         self.h_prev = 0.0  # the length of the step before

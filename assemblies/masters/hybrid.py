@@ -94,9 +94,10 @@ def integrate(system: HybridSystem, y0: np.ndarray, stop_time: float, output_tim
               max_step: float = math.inf, max_events: int = 100_000,
               progress: Callable[[float], None] | None = None,
               scan_spacing: float | None = None):
-    """Integrate from t = 0 to `stop_time`; returns (rows at `output_times`, stats, terminated).
+    """Integrate from the first output time to `stop_time`; returns (rows at
+    `output_times`, stats, terminated).
 
-    The system's initial event iteration (at t = 0) must already be done. Indicators
+    The system's initial event iteration (at the first output time) must already be done. Indicators
     are scanned at least every `scan_spacing` seconds (default: the output step).
     `terminated` is ``(time, message)`` when the system ended the run, else None.
     """
@@ -105,7 +106,7 @@ def integrate(system: HybridSystem, y0: np.ndarray, stop_time: float, output_tim
         raise IntegrationError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
     solver_class = METHODS.get(method) or own
     stats = Statistics()
-    t, y = 0.0, np.asarray(y0, dtype=float)
+    t, y = float(output_times[0]), np.asarray(y0, dtype=float)
     rows, k = [], 0
     next_time = None
     if scan_spacing is None:

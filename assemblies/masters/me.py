@@ -13,7 +13,6 @@ solver stage, so the error is the solver's alone.
 from __future__ import annotations
 
 import ctypes
-import math
 import time as wallclock
 from typing import Callable
 
@@ -23,7 +22,8 @@ from fmpy.fmi3 import FMU3Model
 
 
 from ..assembly import Assembly, AssemblyError
-from ..experiment import check_experiment
+from ..experiment import check_experiment, output_times
+from ..inputs import with_inputs
 from ..foreign import check_own_only
 from ..result import Result, Table
 from .cosim import SimulationError, _Instance, _record_columns
@@ -211,9 +211,12 @@ class _CoupledSystem:
 
 def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-8,
                 record: list[str] | None = None, method: str = "DOP853",
-                progress: Callable[[float], None] | None = None) -> Result:
-    """Integrate `assembly` as Model Exchange FMUs; the table holds every `step` seconds."""
-    check_experiment(stop_time, step, tolerance, "output step")
+                progress: Callable[[float], None] | None = None, start_time: float = 0.0,
+                inputs=None) -> Result:
+    """Integrate `assembly` as Model Exchange FMUs from `start_time`; the table holds
+    every `step` seconds. `inputs`: a table feeding open inputs (:mod:`assemblies.inputs`)."""
+    check_experiment(stop_time, step, tolerance, "output step", start_time)
+    assembly = with_inputs(assembly, inputs)
     check_own_only(assembly, "simulate_me")
     if method not in METHODS:
         raise AssemblyError(f"method must be one of {', '.join(METHODS)}, not '{method}'")
@@ -229,7 +232,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
             for key, value in {**inst.component.values, **inst.component.starts}.items():
                 inst.set(key, value)
             inst.call("enter initialization", inst.fmu.enterInitializationMode,
-                      tolerance, 0.0, stop_time)
+                      tolerance, start_time, stop_time)
         for _ in range(len(instances)):  # settles any loop-free chain of outputs
             system.propagate()
         for inst in instances.values():
@@ -237,13 +240,12 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         # FMI 3: after initialization an ME FMU is in event mode; settle it like any event
         n_z = sum(inst.n_z for inst in instances.values())
         y0 = np.concatenate([inst.states() for inst in instances.values()])
-        outcome = system.event_iteration(0.0, y0, np.zeros(n_z, dtype=bool), first=True)
-        n_out = max(1, math.ceil(stop_time / step - 1e-9))
-        times = np.minimum(np.arange(n_out + 1) * step, stop_time)
+        outcome = system.event_iteration(start_time, y0, np.zeros(n_z, dtype=bool), first=True)
+        times = output_times(stop_time, step, start_time)
         terminated, stats = None, None
         if outcome.terminate is not None:
-            rows = [system.sample(0.0, outcome.y)]
-            terminated = (0.0, outcome.terminate)
+            rows = [system.sample(start_time, outcome.y)]
+            terminated = (start_time, outcome.terminate)
         else:
             rows, stats, terminated = integrate(
                 system, outcome.y, stop_time, times, method=method, rtol=tolerance,
@@ -253,7 +255,8 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in inst.outputs],
                                         inst.event_rows)
                   for name, inst in instances.items() if inst.event_rows}
-        settings = {"stop_time": stop_time, "step": step, "tolerance": tolerance, "scheme": "me",
+        settings = {"start_time": start_time, "stop_time": stop_time, "step": step,
+                    "tolerance": tolerance, "scheme": "me",
                     "method": method, "wall_s": wallclock.perf_counter() - started,
                     "terminated": None if terminated is None else
                     {"instance": getattr(system, "terminated_by", ""), "time": terminated[0],

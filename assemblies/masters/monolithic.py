@@ -19,7 +19,6 @@ Two ways to run it:
 from __future__ import annotations
 
 import functools
-import math
 import time as wallclock
 from dataclasses import dataclass
 from types import SimpleNamespace
@@ -33,7 +32,8 @@ from components.dae import flatten
 from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, Profile, State
 
 from ..assembly import Assembly, AssemblyError
-from ..experiment import check_experiment
+from ..experiment import check_experiment, output_times
+from ..inputs import with_inputs
 from ..foreign import check_mode
 from ..result import Result, Table
 from .hybrid import METHODS, IntegrationError, integrate
@@ -253,11 +253,15 @@ class _JoinedSystem:
 def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, tolerance: float = 1e-10,
                         record: list[str] | None = None, method: str = "DOP853",
                         engine: str = "reference",
-                        progress: Callable[[float], None] | None = None) -> Result:
-    """Simulate the joined model; the table holds every `step` seconds (see the module doc)."""
-    check_experiment(stop_time, step, tolerance, "output step")
+                        progress: Callable[[float], None] | None = None,
+                        start_time: float = 0.0, inputs=None) -> Result:
+    """Simulate the joined model from `start_time`; the table holds every `step` seconds
+    (see the module doc). `inputs`: a table feeding open inputs (:mod:`assemblies.inputs`)."""
+    check_experiment(stop_time, step, tolerance, "output step", start_time)
+    assembly = with_inputs(assembly, inputs)
     if engine == "fmu":
-        return _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress)
+        return _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress,
+                                       start_time)
     if engine != "reference":
         raise AssemblyError(f"engine must be 'reference' or 'fmu', not '{engine}'")
     if method not in METHODS and method not in _CasadiStepper.methods:
@@ -272,9 +276,8 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, toler
     # the components' current values, not only their defaults at flatten time
     x0 = model.x0.copy()
     system.p = np.array(model.p0)
-    y0 = system.jumps(0.0, x0)  # the event iteration at initialization, as the FMUs do
-    n_out = max(1, math.ceil(stop_time / step - 1e-9))
-    times = np.minimum(np.arange(n_out + 1) * step, stop_time)
+    y0 = system.jumps(start_time, x0)  # the event iteration at initialization, as the FMUs do
+    times = output_times(stop_time, step, start_time)
     try:
         rows, stats, terminated = integrate(system, y0, stop_time, times, method=method,
                                             rtol=tolerance, atol=tolerance * 1e-2,
@@ -286,8 +289,8 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, toler
     table = Table.from_rows(names, rows)
     events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in model.outputs[name]], rows_)
               for name, rows_ in system.event_rows.items() if rows_}
-    settings = {"stop_time": stop_time, "step": step, "tolerance": tolerance,
-                "scheme": "monolithic", "method": method, "engine": "reference",
+    settings = {"start_time": start_time, "stop_time": stop_time, "step": step,
+                "tolerance": tolerance, "scheme": "monolithic", "method": method, "engine": "reference",
                 "wall_s": wallclock.perf_counter() - started,
                 "steps": stats.steps, "events": stats.events, "rhs_calls": stats.rhs_calls,
                 "terminated": None if terminated is None else
@@ -414,12 +417,14 @@ def composite(assembly: Assembly) -> Composite:
     return cls()
 
 
-def _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress):
+def _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progress,
+                            start_time=0.0):
     from .cosim import cosimulate
     single = Assembly(assembly.name)
     single.add("assembly", composite(assembly))
     inner = None if record is None else [f"assembly.{r}" for r in record]
-    res = cosimulate(single, stop_time, step, tolerance, record=inner, progress=progress)
+    res = cosimulate(single, stop_time, step, tolerance, record=inner, progress=progress,
+                     start_time=start_time)
     columns = {("time" if n == "time" else n.removeprefix("assembly.")): res[n] for n in res.columns}
     # one FMU cannot say which member an event belongs to: every member sees all of them
     events = {}

@@ -977,10 +977,12 @@ static int run(cosim *c, eng_progress *progress)
     const long n_out = g->n_times - 1;
     long k = 0;
 
-    if (sample(c, 0.0, g->out)) return -1;
+    const double t0 = g->times[0];
+
+    if (sample(c, t0, g->out)) return -1;
     c->run_stats->n_rows = 1;
     if (n_out < 1) return 0;
-    start_stepping(c, 0.0, out_times[n_out - 1]);
+    start_stepping(c, t0, out_times[n_out - 1] - t0);
 
     while (k < n_out) {
         double target = out_times[k];
@@ -1073,7 +1075,8 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
         fail(&c, "no output times");
         stats->status = ENG_FAILED;
     } else if (create(&c, spec) || needs_rollback_capability(&c)
-               || enter_initialization(&c, 0.0) || exit_initialization(&c, 0.0)
+               || enter_initialization(&c, spec->times[0])
+               || exit_initialization(&c, spec->times[0])
                || run(&c, &progress)) {
         stats->status = ENG_FAILED;
     } else if (c.terminated) {

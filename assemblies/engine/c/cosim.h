@@ -60,7 +60,8 @@ typedef struct {
     int n_columns;
     const eng_variable *columns;
     long n_times;
-    const double *times;            /* output times: 0, then increasing to the stop time */
+    const double *times;            /* output times, increasing to the stop time; the run
+                                       starts at times[0] */
     double *out;                    /* n_times x (1 + n_columns), row-major, time first */
     double stop_time, tolerance;    /* tolerance: the FMUs' own solver tolerance */
     double step;                    /* fixed: the step; adaptive: the largest step */

@@ -123,7 +123,7 @@ typedef struct {
     int n_event_groups;
     const eng_event_group *event_groups;
     long n_times;
-    const double *times;           /* increasing, from 0 */
+    const double *times;           /* increasing; the run starts at times[0] */
     double *out;                   /* n_times x n_columns, row-major */
     double stop_time, tolerance;   /* tolerance: relative = absolute error of the solver */
     int method;                    /* ENG_DOPRI5, ENG_RODAS3 or ENG_AUTO */

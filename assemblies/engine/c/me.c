@@ -777,13 +777,21 @@ static int exit_initialization(me_master *M)
     return 0;
 }
 
+/* The run starts at its first output time (a run from Python; eng_me_create's users
+   give theirs to eng_me_enter_initialization). */
+static double start_time(const eng_me_spec *s)
+{
+    return s->n_times > 0 && s->times ? s->times[0] : 0.0;
+}
+
 static int initialize(me_master *M)
 {
     if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact && M->n_x)
         return fail(M, "jacobian='exact': an instance with states or coupled Real "
                        "variables gives no directional derivatives ('fd' or 'auto' take "
                        "differences)");
-    return instantiate(M) || enter_initialization(M, 0.0) || exit_initialization(M);
+    return instantiate(M) || enter_initialization(M, start_time(M->spec))
+           || exit_initialization(M);
 }
 
 /* Integrates from M->t to `target` (or until an instance ends the run). 1: the progress
@@ -884,9 +892,10 @@ static int integrate(me_master *M)
     eng_progress progress;
     int r;
 
-    M->h_initial = s->n_times > 1 ? s->times[1] - s->times[0] : s->stop_time / 100.0;
+    M->h_initial = s->n_times > 1 ? s->times[1] - s->times[0]
+                                  : (s->stop_time - start_time(s)) / 100.0;
     eng_progress_start(&progress, s->progress, s->progress_ctx);
-    if (emit_until(M, 0.0, 1, 0)) return -1;
+    if (emit_until(M, start_time(s), 1, 0)) return -1;
     if (!M->terminate) {
         r = advance(M, s->stop_time, &progress);
         if (r < 0) return -1;
@@ -1082,6 +1091,8 @@ static const char *spec_defect(const eng_me_spec *s)
     int k;
     if (s->n_instances < 1) return "no instances";
     if (!(s->stop_time > 0.0) || !isfinite(s->stop_time)) return "stop time must be finite and > 0";
+    if (s->n_times > 0 && (!isfinite(s->times[0]) || !(s->times[0] < s->stop_time)))
+        return "start time (the first output time) must be finite and before the stop time";
     if (!(s->tolerance > 0.0) || !(s->tolerance < 1.0)) return "tolerance must be in (0, 1)";
     if (s->method != ENG_DOPRI5 && s->method != ENG_RODAS3 && s->method != ENG_AUTO)
         return "unknown method";
