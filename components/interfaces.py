@@ -159,6 +159,9 @@ class Port:
     # (an FMU's input keeps its start value, as FMI defines); our components' inputs
     # must always be connected
     optional: bool = False
+    # an FMI 3 array signal: its shape; connected whole, element by element in row-major
+    # order (assemblies.value_types.element_names); () for a scalar
+    shape: tuple = ()
 
 
 # How a port crosses the FMU boundary.
