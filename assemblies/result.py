@@ -21,9 +21,10 @@ class Table:
         self._columns = {k: _column(v) for k, v in columns.items()}
 
     @classmethod
-    def from_rows(cls, names: list[str], rows: list[list[float]]) -> "Table":
-        data = np.array(rows, dtype=float).reshape(len(rows), len(names))
-        return cls({name: data[:, i] for i, name in enumerate(names)})
+    def from_rows(cls, names: list[str], rows: list[list]) -> "Table":
+        """Rows of numbers (and text, for String variables), a column per name."""
+        data = np.array(rows, dtype=object).reshape(len(rows), len(names))
+        return cls({name: _column(list(data[:, i])) for i, name in enumerate(names)})
 
     @property
     def columns(self) -> list[str]:

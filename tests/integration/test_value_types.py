@@ -270,3 +270,48 @@ def test_an_array_connects_to_an_array_of_its_shape_only():
                              "scalar; arrays connect whole, to an array of one shape")
     with pytest.raises(AssemblyError, match=r"a.m is an array \[2, 2\], a.u is an array \[3\]"):
         asm.connect("a.m", "a.u")
+
+
+def test_fmi2_integer_boolean_enumeration_and_string_round_trip():
+    """FMI 2 (types_fmi2): Integer, Boolean, Enumeration (through fmi2Get/SetInteger) and
+    String parameters set, outputs coupled into another instance and recorded: equal to the
+    closed form (count = step n, on = flag XOR (n odd), tag = label "-" n, m = mode) and,
+    for the numbers, to fmpy's simulate_fmu of the same FMU."""
+    fmu = handmade_fmu("types_fmi2")
+    values = dict(step=-2, flag=True, mode=3, label="two")
+    asm = Assembly("fmi2")
+    asm.add("src", FMU(fmu, **values))
+    asm.add("dst", FMU(fmu))
+    for out, into in (("count", "n_in"), ("on", "on_in"), ("tag", "tag_in"), ("m", "m_in")):
+        asm.connect(f"src.{out}", f"dst.{into}")
+    res = cosimulate(asm, 3.0, 0.5)
+    n = np.floor(res["time"] + 1e-9).astype(int)
+    expected = {"count": -2.0 * n, "on": (n % 2 == 0).astype(float), "m": np.full(len(n), 3.0)}
+    for out, echo in (("count", "n_echo"), ("on", "on_echo"), ("m", "m_echo")):
+        np.testing.assert_array_equal(res[f"src.{out}"], expected[out], out)
+        np.testing.assert_array_equal(res[f"dst.{echo}"], expected[out], echo)
+    assert list(res["src.tag"]) == list(res["dst.tag_echo"]) == [f"two-{i}" for i in n]
+    theirs = simulate_fmu(str(fmu), stop_time=3.0, output_interval=0.5,
+                          start_values={k: v for k, v in values.items() if k != "label"},
+                          output=["count", "on", "m"])
+    for out in ("count", "on", "m"):
+        np.testing.assert_array_equal(res[f"src.{out}"], theirs[out].astype(float), out)
+
+
+def test_the_fmpy_reference_master_carries_every_scalar_type_and_refuses_arrays():
+    """engine 'fmpy' (assemblies.masters.cosim) gets and sets each type through fmpy's own
+    call of that type: the same columns as the engine, value for value; an array FMU is
+    refused in one line naming the element (the engine runs it)."""
+    from assemblies.masters.cosim import cosimulate as fmpy_cosimulate
+    values = dict(k=5, flag=True, label="go", gain=0.25, base=2 ** 53 - 10, mode=3)
+    ours = cosimulate(round_trip(**values), 3.0, 0.5)
+    theirs = fmpy_cosimulate(round_trip(**values), 3.0, 0.5)
+    assert theirs.columns == ours.columns
+    for column in ours.columns:
+        assert list(theirs[column]) == list(ours[column]), column
+    asm = Assembly("arrays")
+    asm.add("a", array_fmu())
+    with pytest.raises(AssemblyError) as err:
+        fmpy_cosimulate(asm, 1.0, 0.5)
+    assert one_line(err) == ("a: the fmpy reference master does not get or set FMI 3 arrays "
+                             "(lam[1]); run it in the compiled engine (engine 'c')")
