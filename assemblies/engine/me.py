@@ -290,7 +290,8 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         columns = [(names.index(i), v) for i, v in recorded]
         groups = [(i, 0, fmus[n].n_event_indicators, fmus[n].outputs)
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
-        keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
+        # every value set before initialisation (a foreign FMU's Strings too)
+        keys = [(n, fmus[n], [*c.fmu_starts()]) for n, c in assembly.components.items()]
         ordered = coupling_order(couplings, fmus)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))
@@ -304,7 +305,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     setup_s, started = wallclock.perf_counter() - started, wallclock.perf_counter()
     with plan.lock:
-        plan.set_starts([{**c.values, **c.starts} for c in assembly.components.values()])
+        plan.set_starts([c.fmu_starts() for c in assembly.components.values()])
         table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
                                            integrator(assembly, method), progress,
                                            event_subsamples, "me")

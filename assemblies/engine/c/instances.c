@@ -102,8 +102,14 @@ int eng_get_value(fmu_t *f, const eng_variable *v, double *value)
         return FMU_OK;
     }
     if (v->size > 1) {
-        double small[64], *all = v->size <= 64 ? small : malloc((size_t)v->size * sizeof(double));
+        double small[64], *all;
         int rc;
+        if (v->element < 0 || v->element >= v->size) {
+            fmu_complain(f, "element %d of an array of %d (value reference %u) does not exist",
+                         v->element + 1, v->size, v->vr);
+            return FMU_ERROR;
+        }
+        all = v->size <= 64 ? small : malloc((size_t)v->size * sizeof(double));
         if (all == NULL) return fmu_complain(f, "out of memory reading an array"), FMU_ERROR;
         rc = fmu_get_typed(f, v->type, &v->vr, 1, all, (size_t)v->size);
         if (rc == FMU_OK) *value = all[v->element];
@@ -124,8 +130,10 @@ int eng_set_value(fmu_t *f, const eng_variable *v, double value)
         }
         return fmu_set_strings(f, &v->vr, 1, &text);
     }
-    if (v->size > 1)
+    if (v->size > 1) {
+        if (v->element < 0) return fmu_complain(f, "negative array element"), FMU_ERROR;
         return fmu_set_element(f, v->type, v->vr, (size_t)v->size, (size_t)v->element, value);
+    }
     return fmu_set_typed(f, v->type, &v->vr, 1, &value, 1);
 }
 

@@ -1,8 +1,10 @@
-/* types_scalars: FMI 3 Co-Simulation with a variable of every type the engine carries,
+/* types_scalars: FMI 3 Co-Simulation and Model Exchange (no continuous states) with a
+   variable of every type the engine carries,
    each got and set only through its own FMI call (a call of another type, or a value
    reference of another type, is an fmi3Error with a message naming it).
 
-   With n = floor(t) at the current time t, the outputs are
+   With n = floor(t) (a discrete state: Co-Simulation updates it at the end of each step,
+   Model Exchange at the time event it announces for every whole second), the outputs are
      n8 (Int8) = k * n, on (Boolean) = flag XOR (n odd), tag (String) = label "-" n,
      y32 (Float32) = gain * t, big (UInt64) = base + n, m (Enumeration) = mode,
      i16 (Int16) = offset16 + n, u8 (UInt8) = 20 * n,
@@ -25,6 +27,7 @@ typedef struct {
     /* inputs */
     fmi3Int8 n8_in; fmi3Boolean on_in; char tag_in[TEXT]; fmi3Float32 y32_in;
     fmi3UInt64 big_in; fmi3Int64 m_in; fmi3Int32 i32_in; fmi3Float64 x_in;
+    long n;         /* whole seconds: the discrete state */
     char tag[TEXT]; /* the String output's storage: valid until the next call */
     fmi3InstanceEnvironment env;
     fmi3LogMessageCallback log;
@@ -37,16 +40,10 @@ static fmi3Status refuse(Instance *s, const char *fn, fmi3ValueReference vr) {
     return fmi3Error;
 }
 
-static long whole_seconds(const Instance *s) { return (long)floor(s->time + 1e-9); }
+static long whole_seconds(const Instance *s) { return s->n; }
 
-fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3String resources,
-    fmi3Boolean visible, fmi3Boolean logging, fmi3Boolean event_mode, fmi3Boolean early,
-    const fmi3ValueReference required[], size_t n_required, fmi3InstanceEnvironment env,
-    fmi3LogMessageCallback log, fmi3IntermediateUpdateCallback update) {
-    Instance *s;
-    (void)name; (void)token; (void)resources; (void)visible; (void)logging; (void)event_mode;
-    (void)early; (void)required; (void)n_required; (void)update;
-    s = calloc(1, sizeof *s);
+static Instance *instantiate(fmi3InstanceEnvironment env, fmi3LogMessageCallback log) {
+    Instance *s = calloc(1, sizeof *s);
     if (s == NULL) return NULL;
     s->k = 3; s->flag = false; strcpy(s->label, "tick"); s->gain = 0.5f;
     s->base = 4503599627370496ULL; s->mode = 2; s->offset16 = -300;
@@ -54,6 +51,21 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3
     s->env = env; s->log = log;
     return s;
 }
+fmi3Instance fmi3InstantiateCoSimulation(fmi3String name, fmi3String token, fmi3String resources,
+    fmi3Boolean visible, fmi3Boolean logging, fmi3Boolean event_mode, fmi3Boolean early,
+    const fmi3ValueReference required[], size_t n_required, fmi3InstanceEnvironment env,
+    fmi3LogMessageCallback log, fmi3IntermediateUpdateCallback update) {
+    (void)name; (void)token; (void)resources; (void)visible; (void)logging; (void)event_mode;
+    (void)early; (void)required; (void)n_required; (void)update;
+    return instantiate(env, log);
+}
+fmi3Instance fmi3InstantiateModelExchange(fmi3String name, fmi3String token, fmi3String resources,
+    fmi3Boolean visible, fmi3Boolean logging, fmi3InstanceEnvironment env,
+    fmi3LogMessageCallback log) {
+    (void)name; (void)token; (void)resources; (void)visible; (void)logging;
+    return instantiate(env, log);
+}
+static void update_n(Instance *s) { s->n = (long)floor(s->time + 1e-9); }
 
 void fmi3FreeInstance(fmi3Instance c) { free(c); }
 const char *fmi3GetVersion(void) { return "3.0"; }
@@ -65,7 +77,41 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean tol_defined, 
     (void)tol_defined; (void)tol; (void)stop_defined; (void)t1;
     ((Instance *)c)->time = t0; return fmi3OK;
 }
-fmi3Status fmi3ExitInitializationMode(fmi3Instance c) { (void)c; return fmi3OK; }
+fmi3Status fmi3ExitInitializationMode(fmi3Instance c) { update_n(c); return fmi3OK; }
+fmi3Status fmi3EnterEventMode(fmi3Instance c) { (void)c; return fmi3OK; }
+fmi3Status fmi3UpdateDiscreteStates(fmi3Instance c, fmi3Boolean *more, fmi3Boolean *terminate,
+                                    fmi3Boolean *nominals, fmi3Boolean *values,
+                                    fmi3Boolean *next_defined, fmi3Float64 *next) {
+    Instance *s = c;
+    update_n(s);
+    *more = *terminate = *nominals = *values = false;
+    *next_defined = true;
+    *next = (double)(s->n + 1);
+    return fmi3OK;
+}
+fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance c) { (void)c; return fmi3OK; }
+fmi3Status fmi3CompletedIntegratorStep(fmi3Instance c, fmi3Boolean no_set_prior,
+                                       fmi3Boolean *enter_event, fmi3Boolean *terminate) {
+    (void)c; (void)no_set_prior; *enter_event = *terminate = false; return fmi3OK;
+}
+fmi3Status fmi3SetTime(fmi3Instance c, fmi3Float64 t) { ((Instance *)c)->time = t; return fmi3OK; }
+fmi3Status fmi3SetContinuousStates(fmi3Instance c, const fmi3Float64 x[], size_t n) {
+    (void)c; (void)x; return n ? fmi3Error : fmi3OK;
+}
+fmi3Status fmi3GetContinuousStates(fmi3Instance c, fmi3Float64 x[], size_t n) {
+    (void)c; (void)x; return n ? fmi3Error : fmi3OK;
+}
+fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance c, fmi3Float64 dx[], size_t n) {
+    (void)c; (void)dx; return n ? fmi3Error : fmi3OK;
+}
+fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance c, fmi3Float64 v[], size_t n) {
+    (void)c; (void)v; return n ? fmi3Error : fmi3OK;
+}
+fmi3Status fmi3GetEventIndicators(fmi3Instance c, fmi3Float64 z[], size_t n) {
+    (void)c; (void)z; return n ? fmi3Error : fmi3OK;
+}
+fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance c, size_t *n) { (void)c; *n = 0; return fmi3OK; }
+fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance c, size_t *n) { (void)c; *n = 0; return fmi3OK; }
 fmi3Status fmi3EnterStepMode(fmi3Instance c) { (void)c; return fmi3OK; }
 fmi3Status fmi3Terminate(fmi3Instance c) { (void)c; return fmi3OK; }
 fmi3Status fmi3Reset(fmi3Instance c) { (void)c; return fmi3Error; }
@@ -76,6 +122,7 @@ fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 t, fmi3Float64 h, fmi3Boolean 
     Instance *s = c;
     (void)no_set_prior;
     s->time = t + h;
+    update_n(s);
     *event_needed = false; *terminate = false; *early = false; *last = s->time;
     return fmi3OK;
 }
@@ -151,10 +198,9 @@ fmi3Status fmi3SetString(fmi3Instance c, const fmi3ValueReference vr[], size_t n
     return fmi3OK;
 }
 
-/* never called by an importer of this FMU (no ME interface, no state, no clocks) */
+/* never called by an importer of this FMU (no FMU state, no clocks) */
 #define STUB(name) fmi3Status name(void) { return fmi3Error; }
-STUB(fmi3InstantiateModelExchange) STUB(fmi3InstantiateScheduledExecution)
-STUB(fmi3EnterEventMode) STUB(fmi3GetBinary) STUB(fmi3SetBinary) STUB(fmi3GetClock)
+STUB(fmi3InstantiateScheduledExecution) STUB(fmi3GetBinary) STUB(fmi3SetBinary) STUB(fmi3GetClock)
 STUB(fmi3SetClock) STUB(fmi3GetNumberOfVariableDependencies) STUB(fmi3GetVariableDependencies)
 STUB(fmi3GetFMUState) STUB(fmi3SetFMUState) STUB(fmi3FreeFMUState)
 STUB(fmi3SerializedFMUStateSize) STUB(fmi3SerializeFMUState) STUB(fmi3DeserializeFMUState)
@@ -163,9 +209,4 @@ STUB(fmi3EnterConfigurationMode) STUB(fmi3ExitConfigurationMode)
 STUB(fmi3GetIntervalDecimal) STUB(fmi3GetIntervalFraction) STUB(fmi3GetShiftDecimal)
 STUB(fmi3GetShiftFraction) STUB(fmi3SetIntervalDecimal) STUB(fmi3SetIntervalFraction)
 STUB(fmi3SetShiftDecimal) STUB(fmi3SetShiftFraction) STUB(fmi3EvaluateDiscreteStates)
-STUB(fmi3UpdateDiscreteStates) STUB(fmi3EnterContinuousTimeMode)
-STUB(fmi3CompletedIntegratorStep) STUB(fmi3SetTime) STUB(fmi3SetContinuousStates)
-STUB(fmi3GetContinuousStateDerivatives) STUB(fmi3GetEventIndicators)
-STUB(fmi3GetContinuousStates) STUB(fmi3GetNominalsOfContinuousStates)
-STUB(fmi3GetNumberOfEventIndicators) STUB(fmi3GetNumberOfContinuousStates)
 STUB(fmi3GetOutputDerivatives) STUB(fmi3ActivateModelPartition)
