@@ -166,6 +166,9 @@ def _interface(assembly, fmus, plan, outputs, mode, fmi) -> list[dict]:
         full = f"{instance}.{name}" if derivative_of is None else f"der({derivative_of})"
         if full in by_name:  # a state that is also a chosen output is one variable
             return by_name[full]
+        if name not in variables[instance]:  # an element of an FMI 3 array
+            raise AssemblyError(f"export_fmu: {instance}.{name} is an element of an FMI 3 "
+                                "array; the assembly FMU passes on scalars only")
         v = variables[instance][name]
         kind = _TYPES.get(v.type)
         if kind is None:

@@ -337,3 +337,33 @@ def test_the_fmpy_reference_master_carries_every_scalar_type_and_refuses_arrays(
         fmpy_cosimulate(asm, 1.0, 0.5)
     assert one_line(err) == ("a: the fmpy reference master does not get or set FMI 3 arrays "
                              "(lam[1]); run it in the compiled engine (engine 'c')")
+
+
+def test_the_assembly_fmu_refuses_what_it_cannot_pass_on_in_one_line(tmp_path):
+    """export_fmu carries Float64/Int32 scalars only: another type or an array element of a
+    member is named in one line (not a KeyError, not a broken FMU)."""
+    import warnings
+
+    from assemblies.fmu_export import export_fmu
+    for name, why in (("types_scalars", "export_fmu: s.n8_in is of type Int8; the assembly FMU "
+                                        "passes on Float64/Real and Int32/Integer only"),
+                      ("types_array", "export_fmu: s.u[1] is an element of an FMI 3 array; "
+                                      "the assembly FMU passes on scalars only")):
+        asm = Assembly("ex")
+        asm.add("s", FMU(handmade_fmu(name)))
+        with warnings.catch_warnings(), pytest.raises(AssemblyError) as err:
+            warnings.simplefilter("ignore")
+            export_fmu(asm, tmp_path / f"{name}.fmu", stop_time=1.0, step=0.1)
+        assert one_line(err) == why
+
+
+def test_a_string_parameter_is_set_through_the_assembly():
+    asm = Assembly("strings")
+    asm.add("s", FMU(handmade_fmu("types_scalars")))
+    asm.set("s.label", "fast")
+    res = cosimulate(asm, 1.0, 0.5, record=["s.tag"])
+    assert list(res["s.tag"]) == ["fast-0", "fast-0", "fast-1"]
+    with pytest.raises(ComponentError) as err:
+        asm.set("s.label", 1.0)
+    assert one_line(err).endswith("label = 1.0 is not allowed; label is a String variable: it "
+                                  "takes text (a str)")
