@@ -659,7 +659,12 @@ static int inexact(fmu_t *f, int type, uint32_t vr, const char *shown) {
         if (buf != small) free(buf);                                                        \
     } while (0)
 
-static int fmi2_type(fmu_t *f, int type) {
+/* FMI 2's numbers are Real, Integer (Int32 and Enumeration) and Boolean, all scalars. */
+static int fmi2_can(fmu_t *f, int type, size_t n_vr, size_t n_values) {
+    if (n_vr != n_values) {
+        fail(f, "FMI 2 has no array variables");
+        return FMU_ERROR;
+    }
     if (type == ENG_FLOAT64 || type == ENG_INT32 || type == ENG_BOOLEAN || type == ENG_ENUMERATION)
         return FMU_OK;
     fail(f, "FMI 2 has no %s variables", fmu_type_name(type));
@@ -674,11 +679,7 @@ int fmu_get_typed(fmu_t *f, int type, const uint32_t *vr, size_t n_vr, double *v
     if (type == ENG_FLOAT64 && n_vr == n_values) return fmu_get_float64(f, vr, n_vr, values);
     if (f->fmi_version == 2) {
         int small[64], *buf;
-        if (fmi2_type(f, type) || n_vr != n_values) {
-            if (n_vr != n_values) fail(f, "FMI 2 has no array variables");
-            return FMU_ERROR;
-        }
-        if (type == ENG_FLOAT64) return fmu_get_float64(f, vr, n_vr, values);
+        if (fmi2_can(f, type, n_vr, n_values)) return FMU_ERROR;
         if (type == ENG_BOOLEAN) REQUIRE(f, f->v2.get_boolean, "GetBoolean");
         else REQUIRE(f, f->v2.get_integer, "GetInteger");
         buf = n_values <= 64 ? small : malloc(n_values * sizeof(int));
@@ -725,10 +726,7 @@ int fmu_set_typed(fmu_t *f, int type, const uint32_t *vr, size_t n_vr, const dou
     if (type == ENG_FLOAT64 && n_vr == n_values) return fmu_set_float64(f, vr, n_vr, values);
     if (f->fmi_version == 2) {
         int small[64], *buf;
-        if (fmi2_type(f, type) || n_vr != n_values) {
-            if (n_vr != n_values) fail(f, "FMI 2 has no array variables");
-            return FMU_ERROR;
-        }
+        if (fmi2_can(f, type, n_vr, n_values)) return FMU_ERROR;
         if (type == ENG_BOOLEAN) REQUIRE(f, f->v2.set_boolean, "SetBoolean");
         else REQUIRE(f, f->v2.set_integer, "SetInteger");
         buf = n_values <= 64 ? small : malloc(n_values * sizeof(int));
