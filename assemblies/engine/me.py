@@ -31,7 +31,6 @@ from ..result import Result, Table
 from . import binding as B
 from .build import library
 from .liveness import continuous_couplings, row_couplings
-from ..value_types import STRING
 from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
                       record_columns, rest_groups, structure_key)
 
@@ -71,8 +70,7 @@ class _Plan:
             # refilled per run in place (set_starts)
             lists = ([], [], [], [])
             for k in keys:
-                vr, kind, _, n = fmu.variable(name, k)
-                lists[3 if kind == STRING else 2 if n > 1 or kind not in (0, 1) else kind].append(k)
+                lists[fmu.start_list(name, k)].append(k)
             f_values, i_values = np.zeros(max(1, len(lists[0]))), np.zeros(max(1, len(lists[1])),
                                                                            dtype=np.int32)
             t_values = np.zeros(max(1, len(lists[2])))

@@ -80,20 +80,24 @@ class PreparedFmu:
             raise AssemblyError(f"{instance} has no variable '{name}'")
         return self.variables[name]
 
+    def start_list(self, instance: str, name: str) -> int:
+        """Which of typed_starts' lists a value set before initialisation belongs in: 0
+        a Float64 scalar, 1 an Int32 one, 2 another numeric type or an array element,
+        3 a String (the engine sets each list its own way: eng_instance_spec)."""
+        _, kind, _, n = self.variable(instance, name)
+        return 3 if kind == STRING else 2 if n > 1 or kind not in (0, 1) else kind
+
     def typed_starts(self, instance: str, starts: dict) -> tuple[list, list, list, list]:
         """Parameters and start values by name as the engine sets them:
         ([(vr, float)] of Float64 scalars, [(vr, int)] of Int32 ones, [(variable, float)]
         of the other numeric types and array elements, [(vr, str)] of Strings)."""
-        floats, ints, typed, strings = [], [], [], []
+        lists = ([], [], [], [])
+        convert = (float, int, float, str)
         for name, value in starts.items():
-            vr, kind, element, n = var = self.variable(instance, name)
-            if kind == STRING:
-                strings.append((vr, str(value)))
-            elif n > 1 or kind not in (0, 1):
-                typed.append((var, float(value)))
-            else:
-                (ints if kind else floats).append((vr, int(value) if kind else float(value)))
-        return floats, ints, typed, strings
+            var = self.variable(instance, name)
+            k = self.start_list(instance, name)
+            lists[k].append((var if k == 2 else var[0], convert[k](value)))
+        return lists
 
 
 @functools.lru_cache(maxsize=None)

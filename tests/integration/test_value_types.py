@@ -367,3 +367,18 @@ def test_a_string_parameter_is_set_through_the_assembly():
         asm.set("s.label", 1.0)
     assert one_line(err).endswith("label = 1.0 is not allowed; label is a String variable: it "
                                   "takes text (a str)")
+
+
+def test_a_repeated_model_exchange_run_takes_its_own_values():
+    """mode 'me' reuses one plan per structure and refills the values per run: a second
+    run with other String, Int8 and UInt64 values shows those, not the first run's."""
+    asm = Assembly("again")
+    asm.add("s", FMU(handmade_fmu("types_scalars"), label="first", k=2))
+    first = simulate_me(asm, 1.5, 0.5, record=["s.tag", "s.n8", "s.big"])
+    asm.set("s.label", "second")
+    asm.set("s.k", -3)
+    asm.set("s.base", 17)
+    second = simulate_me(asm, 1.5, 0.5, record=["s.tag", "s.n8", "s.big"])
+    assert list(first["s.tag"]) == ["first-0", "first-0", "first-0", "first-1"]
+    assert list(second["s.tag"]) == ["second-0", "second-0", "second-0", "second-1"]
+    assert list(second["s.n8"]) == [0, 0, 0, -3] and list(second["s.big"]) == [17, 17, 17, 18]
