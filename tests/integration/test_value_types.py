@@ -4,9 +4,10 @@ FMUs (tests/handmade/types_*):
 - ``types_scalars`` (Co-Simulation) has a parameter, an output and an input of Int8,
   Boolean, String, Float32, UInt64, Enumeration, Int16/Int32, UInt8/Float64, each got and
   set only through its own FMI call (the FMU answers any other call with fmi3Error), and
-  outputs that echo its inputs. Its outputs are written from the time in closed form
+  outputs that echo its inputs (UInt16 into UInt32 and Int64 too). Its outputs are written from the time in closed form
   (n = floor(t): n8 = k n, on = flag XOR (n odd), tag = label "-" n, y32 = gain t, big =
-  base + n, m = mode, i16 = offset16 + n, u8 = 20 n): the references.
+  base + n, m = mode, i16 = offset16 + n, u8 = 20 n, u16 = 1000 n, i64 = n - 2^53):
+  the references.
 - ``types_array`` (Model Exchange and Co-Simulation) is der(x) = -lam .* x + u with x, u,
   lam, y = x of 3 elements and m[2,2] = [[x1, x2], [x3, t]]: an array state, parameter,
   input and outputs. References: exp(-lam t) alone; (1 + t) exp(-lam t) for b.x fed by
@@ -36,7 +37,12 @@ LAM = np.array([1.0, 2.0, 3.0])
 LINKS = [("n8", "n8_in", "n8_echo"), ("on", "on_in", "on_echo"), ("tag", "tag_in", "tag_echo"),
          ("y32", "y32_in", "y32_echo"), ("big", "big_in", "big_echo"), ("m", "m_in", "m_echo"),
          ("i16", "i32_in", "i32_echo"),  # Int16 into a wider Int32
-         ("u8", "x_in", "x_echo")]        # UInt8 into a Float64: its value
+         ("u8", "x_in", "x_echo"),        # UInt8 into a Float64: its value
+         ("u16", "u32_in", "u32_echo"),   # UInt16 into a wider UInt32
+         ("i64", "i64_in", "i64_echo")]   # Int64 at -2^53 + n: exact
+
+
+NUMERIC = ("n8", "on", "y32", "big", "m", "i16", "u8", "u16", "i64")  # fmpy records no Strings
 
 
 def one_line(err) -> str:
@@ -51,7 +57,7 @@ def scalars_closed_form(t, k=3, flag=False, label="tick", gain=0.5, base=2 ** 52
     return {"n8": k * n, "on": np.logical_xor(flag, n % 2 == 1).astype(float),
             "tag": [f"{label}-{i}" for i in n], "y32": np.float32(gain) * t.astype(np.float32),
             "big": np.array([base + int(i) for i in n], dtype=object), "m": np.full(len(t), mode),
-            "i16": offset16 + n, "u8": 20 * n}
+            "i16": offset16 + n, "u8": 20 * n, "u16": 1000 * n, "i64": n - 2 ** 53}
 
 
 def round_trip(**src_values) -> Assembly:
@@ -118,9 +124,9 @@ def test_scalar_outputs_match_fmpys_own_run_of_the_fmu():
     asm.add("src", FMU(handmade_fmu("types_scalars"), **values))
     ours = cosimulate(asm, 3.0, 0.5)
     theirs = simulate_fmu(str(handmade_fmu("types_scalars")), stop_time=3.0, output_interval=0.5,
-                          start_values=values, output=["n8", "on", "y32", "big", "m", "i16", "u8"])
+                          start_values=values, output=list(NUMERIC))
     np.testing.assert_array_equal(ours["time"], theirs["time"])
-    for name in ("n8", "on", "y32", "big", "m", "i16", "u8"):
+    for name in NUMERIC:
         np.testing.assert_array_equal(ours[f"src.{name}"], theirs[name].astype(float), name)
 
 

@@ -7,7 +7,8 @@
    Model Exchange at the time event it announces for every whole second), the outputs are
      n8 (Int8) = k * n, on (Boolean) = flag XOR (n odd), tag (String) = label "-" n,
      y32 (Float32) = gain * t, big (UInt64) = base + n, m (Enumeration) = mode,
-     i16 (Int16) = offset16 + n, u8 (UInt8) = 20 * n,
+     i16 (Int16) = offset16 + n, u8 (UInt8) = 20 * n, u16 (UInt16) = 1000 * n,
+     i64 (Int64) = n - 2^53,
    and each *_echo output is the value of its input (direct feedthrough). A local Binary
    `blob` is there to show that a variable the user never reaches does not refuse the FMU.
    Unused FMI functions exist (importers look every one up) and return fmi3Error. */
@@ -27,6 +28,7 @@ typedef struct {
     /* inputs */
     fmi3Int8 n8_in; fmi3Boolean on_in; char tag_in[TEXT]; fmi3Float32 y32_in;
     fmi3UInt64 big_in; fmi3Int64 m_in; fmi3Int32 i32_in; fmi3Float64 x_in;
+    fmi3UInt32 u32_in; fmi3Int64 i64_in;
     long n;         /* whole seconds: the discrete state */
     char tag[TEXT]; /* the String output's storage: valid until the next call */
     fmi3InstanceEnvironment env;
@@ -159,16 +161,19 @@ GETTER(fmi3GetUInt8, fmi3UInt8, CASE(17, v[i] = (fmi3UInt8)(20 * n)))
 SETTER(fmi3SetUInt8, fmi3UInt8, )
 GETTER(fmi3GetInt16, fmi3Int16, CASE(7, v[i] = s->offset16) CASE(16, v[i] = (fmi3Int16)(s->offset16 + n)))
 SETTER(fmi3SetInt16, fmi3Int16, CASE(7, s->offset16 = v[i]))
-GETTER(fmi3GetUInt16, fmi3UInt16, )
+GETTER(fmi3GetUInt16, fmi3UInt16, CASE(18, v[i] = (fmi3UInt16)(1000 * n)))
 SETTER(fmi3SetUInt16, fmi3UInt16, )
 GETTER(fmi3GetInt32, fmi3Int32, CASE(26, v[i] = s->i32_in) CASE(36, v[i] = s->i32_in))
 SETTER(fmi3SetInt32, fmi3Int32, CASE(26, s->i32_in = v[i]))
-GETTER(fmi3GetUInt32, fmi3UInt32, )
-SETTER(fmi3SetUInt32, fmi3UInt32, )
+GETTER(fmi3GetUInt32, fmi3UInt32, CASE(28, v[i] = s->u32_in) CASE(38, v[i] = s->u32_in))
+SETTER(fmi3SetUInt32, fmi3UInt32, CASE(28, s->u32_in = v[i]))
 /* Enumerations are got and set as Int64 */
 GETTER(fmi3GetInt64, fmi3Int64, CASE(6, v[i] = s->mode) CASE(15, v[i] = s->mode)
-                                CASE(25, v[i] = s->m_in) CASE(35, v[i] = s->m_in))
-SETTER(fmi3SetInt64, fmi3Int64, CASE(6, s->mode = v[i]) CASE(25, s->m_in = v[i]))
+                                CASE(25, v[i] = s->m_in) CASE(35, v[i] = s->m_in)
+                                CASE(19, v[i] = n - (1LL << 53))
+                                CASE(29, v[i] = s->i64_in) CASE(39, v[i] = s->i64_in))
+SETTER(fmi3SetInt64, fmi3Int64, CASE(6, s->mode = v[i]) CASE(25, s->m_in = v[i])
+                                CASE(29, s->i64_in = v[i]))
 GETTER(fmi3GetUInt64, fmi3UInt64, CASE(5, v[i] = s->base) CASE(14, v[i] = s->base + (fmi3UInt64)n)
                                   CASE(24, v[i] = s->big_in) CASE(34, v[i] = s->big_in))
 SETTER(fmi3SetUInt64, fmi3UInt64, CASE(5, s->base = v[i]) CASE(24, s->big_in = v[i]))
