@@ -108,7 +108,8 @@ class Domain:
     name: str
     across: tuple[tuple[str, str, str], ...]  # (name, unit, description), highest derivative last
     flow: tuple[str, str, str] | None          # None for plain signals
-    value_type: str = "Float64"                # FMI type of the variables (signals: Int32 too)
+    value_type: str = "Float64"                # FMI type of the variables (a signal: any
+                                               # FMI type, assemblies.value_types)
 
 
 TRANSLATIONAL = Domain(
