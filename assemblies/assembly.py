@@ -18,6 +18,7 @@ from components.interfaces import (FIXED, FORCE_IN, SIGNAL_IN, SIGNAL_OUT, Compo
                                    Port, connectable, describe_signal)
 
 from .causality import CausalityError, Link, compatible, port_causalities, resolve
+from .value_types import article, coupling_rule, element_names, feeds
 
 
 class AssemblyError(MechfmuError, ValueError):
@@ -89,7 +90,14 @@ class Assembly:
         available profiles fits them; which pair is decided by ``resolve_causality``.
         """
         (ia, pa, _), (ib, pb, _) = self._port(a), self._port(b)
-        if not connectable(pa.domain, pb.domain):
+        if pa.shape != pb.shape:
+            def shown(port):
+                return f"an array {list(port.shape)}" if port.shape else "a scalar"
+            raise AssemblyError(f"cannot connect {a} to {b}: {a} is {shown(pa)}, {b} is "
+                                f"{shown(pb)}; arrays connect whole, to an array of one shape")
+        if self._signal_types_differ(a, pa, b, pb):
+            pass  # checked (one line, naming both) by _signal_types_differ
+        elif not connectable(pa.domain, pb.domain):
             if pa.domain.flow is None and pb.domain.flow is None:
                 raise AssemblyError(
                     f"cannot connect {a} to {b}: {a} is {describe_signal(pa.domain)}, {b} is "
@@ -119,6 +127,27 @@ class Assembly:
                 "or a signal output must feed a signal input")
         self.connections.append(Connection(a, b))
 
+    def _signal_types_differ(self, a: str, pa: Port, b: str, pb: Port) -> bool:
+        """Two signals of different FMI types: True where the output's type may feed the
+        input's (value_types.feeds) and the units agree; an AssemblyError otherwise."""
+        da, db = pa.domain, pb.domain
+        if da.flow is not None or db.flow is not None or da.value_type == db.value_type:
+            return False
+        ka, kb = (port_causalities(self.components[i], p.name)
+                  for i, p in ((a.partition(".")[0], pa), (b.partition(".")[0], pb)))
+        if ka == [SIGNAL_IN] and kb == [SIGNAL_OUT]:
+            (a, da), (b, db) = (b, db), (a, da)
+        elif not (ka == [SIGNAL_OUT] and kb == [SIGNAL_IN]):
+            return False  # no direction to judge: connectable() names the type clash
+        if not feeds(da.value_type, db.value_type):
+            raise AssemblyError(f"cannot connect {a} to {b}: {article(da.value_type)} output "
+                                f"cannot feed {article(db.value_type)} input; {coupling_rule()}")
+        ua, ub = da.across[0][1], db.across[0][1]
+        if ua and ub and ua != ub:
+            raise AssemblyError(f"cannot connect {a} to {b}: {a} is {describe_signal(da)}, {b} "
+                                f"is {describe_signal(db)}; a connection joins signals of one unit")
+        return True
+
     def resolve_causality(self) -> dict[str, str]:
         """Give every component a profile that fits the connections; instance -> profile name.
 
@@ -146,7 +175,10 @@ class Assembly:
             (ia, pa, ca), (ib, pb, _) = self._port(conn.a), self._port(conn.b)
             if pa.domain.flow is None:
                 src, dst = ((ia, pa), (ib, pb)) if ca == SIGNAL_OUT else ((ib, pb), (ia, pa))
-                out.append(Coupling((src[0], src[1].name), (dst[0], dst[1].name)))
+                # an array couples element by element, in the same (row-major) order
+                for s, d in zip(element_names(src[1].name, src[1].shape),
+                                element_names(dst[1].name, dst[1].shape)):
+                    out.append(Coupling((src[0], s), (dst[0], d)))
                 continue
             # the motion side (port FORCE_IN) feeds its across variables to the other side
             (im, pm), (if_, pf) = ((ia, pa), (ib, pb)) if ca == FORCE_IN else ((ib, pb), (ia, pa))

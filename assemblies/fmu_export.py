@@ -171,12 +171,15 @@ def _interface(assembly, fmus, plan, outputs, mode, fmi) -> list[dict]:
         full = f"{instance}.{name}" if derivative_of is None else f"der({derivative_of})"
         if full in by_name:  # a state that is also a chosen output is one variable
             return by_name[full]
+        if name not in variables[instance]:  # an element of an FMI 3 array
+            raise AssemblyError(f"export_fmu: {instance}.{name} is an element of an FMI 3 "
+                                "array; the assembly FMU passes on scalars only")
         v = variables[instance][name]
         kind = _TYPES.get(v.type)
         if kind is None:
             raise AssemblyError(f"export_fmu: {instance}.{name} is of type {v.type}; the "
                                 "assembly FMU passes on Float64/Real and Int32/Integer only")
-        inst, vr, is_int = plan.variable(instance, name)
+        inst, vr, is_int = plan.variable(instance, name)[:3]
         start = None
         if causality == "input":
             own = {**assembly.components[instance].values, **assembly.components[instance].starts}
@@ -225,7 +228,13 @@ def _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s) 
         return " ".join(repr(w) if isinstance(w, float) else str(w) for w in words)
 
     def var(v):
-        return line(*v)
+        # (instance, vr, type): the assembly FMU carries Float64 and Int32 scalars only
+        instance, vr, kind = v[:3]
+        if kind not in (0, 1) or (len(v) > 4 and v[4] > 1):
+            raise AssemblyError("export_fmu: the assembly FMU couples and passes on Float64 "
+                                "and Int32 scalars only; a member's coupling or state is of "
+                                "another type or an array element")
+        return line(instance, vr, kind)
 
     settings = (float(stop_time), float(tolerance), float(step), 0 if scheme == "jacobi" else 1,
                 int(s["extrapolation"]), int(bool(s["adaptive"])), float(s["tol"]),
@@ -235,7 +244,11 @@ def _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s) 
     lines = ["mechfmu-assembly 1", "token @TOKEN@", f"mode {s['mode']}",
              line("settings", *settings), f"instances {len(fmus)}"]
     for n, fmu in fmus.items():
-        floats, ints = fmu.typed_starts(n, assembly.components[n].fmu_starts())
+        floats, ints, typed, strings = fmu.typed_starts(n, assembly.components[n].fmu_starts())
+        if typed or strings:
+            raise AssemblyError(f"export_fmu: member '{n}' has parameters or start values of "
+                                "other types than Float64 and Int32 scalars, which the "
+                                "assembly FMU does not carry")
         identifier = fmu.me_identifier if s["mode"] == "me" else fmu.cs_identifier
         lines.append(line("instance", n, identifier, fmu.token, fmu.fmi_version, fmu.n_states,
                           fmu.n_event_indicators, int(fmu.can_get_set_state),

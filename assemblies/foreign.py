@@ -5,19 +5,26 @@ an assembly as a :class:`components.component.Block` (what an assembly needs of 
 instance; our components are Blocks with CasADi equations), read from its model
 description:
 
-- its Float64/Real and Int32/Integer inputs and outputs are signal ports named after
-  the variables (structured names such as ``a.b[1]`` kept), with the FMU's units, so
-  ``Assembly.connect`` checks units and types as for our ports; one profile (inputs
-  in, outputs out), so the causality resolution needs no special case for it;
+- its inputs and outputs of every FMI type the engine carries (Float64/Real, Float32,
+  Int8...UInt64, Int32/Integer, Boolean, Enumeration, String:
+  :mod:`assemblies.value_types`) are signal ports named after the variables
+  (structured names such as ``a.b[1]`` kept), with the FMU's units, so
+  ``Assembly.connect`` checks units and types as for our ports; an FMI 3 array is one
+  port of its shape, connected whole and recorded element by element (``y[1]``,
+  ``m[1,2]``: row-major); one profile (inputs in, outputs out), so the causality
+  resolution needs no special case for it;
 - its inputs are *optional* ports: one left unconnected keeps its start value, as FMI
   defines (ours must be connected);
 - its parameters (causality ``parameter``, fixed or tunable), its inputs' start values
   and the start values of its continuous states that may be set (initial exact or
   approx) are settable by name, defaulting to the FMU's own start values and checked
-  like ours (finite, within the declared min/max, Int32 ones whole numbers).
+  like ours (finite, within the declared min/max and the type's range; whole numbers
+  for the integer types, True/False for Boolean, text for String); an array's elements
+  by their names (``lam[2]``), its continuous states per element.
 
-Other types (Boolean, String, Float32, arrays, clocks...) are not ports: the engine
-couples Float64 and Int32 values only.
+A Binary or Clock variable (or a clocked one, or a String array) that is an input, an
+output or a parameter refuses the FMU at ``FMU(path)``, in one line naming it; a local
+one is left alone.
 
 It carries no CasADi equations (it is no ``Component``), so it cannot be joined
 symbolically (mode ``monolithic``); the compiled engine runs it from its file
@@ -42,9 +49,8 @@ from components.interfaces import (SIGNAL_IN, SIGNAL_OUT, ComponentError, Parame
                                    Profile, State, signal)
 
 from .assembly import AssemblyError
+from .value_types import MAX_ARRAY, RANGES, article, canonical, check_value, code, element_names, size
 
-# FMI 2 and FMI 3 names of the two types the engine couples, as the Float64/Int32 of FMI 3
-_VALUE_TYPES = {"Real": "Float64", "Float64": "Float64", "Integer": "Int32", "Int32": "Int32"}
 # the assembly modes an FMU interface can take part in
 INTERFACE_MODES = {"ModelExchange": "me", "CoSimulation": "cosim"}
 MODES = ("cosim", "me", "monolithic")
@@ -74,7 +80,10 @@ class FMU(Block):
         stat = self.path.stat()
         self.stamp = (stat.st_mtime_ns, stat.st_size)
         self.interfaces = _interfaces_with_binaries(self.path, md)
-        self._integers: set[str] = set()
+        self._types: dict[str, str] = {}    # settable name -> its FMI type (value_types)
+        self._strings: dict[str, str] = {}  # String parameters and start values
+        self._state_names = {v.derivative.name for v in md.modelVariables
+                             if v.derivative is not None}
         units = dict(units or {})
         self.ports, self.parameters, self.states = self._declare(md, units)
         if units:
@@ -93,9 +102,10 @@ class FMU(Block):
         self._causality = {}
         derivative_of = {v.derivative.name for v in md.modelVariables if v.derivative is not None}
         for v in md.modelVariables:
-            value_type = _VALUE_TYPES.get(v.type)
-            if value_type is None or getattr(v, "dimensions", None):
-                continue  # not a scalar the engine couples
+            value_type = self._value_type(v)
+            if value_type is None:
+                continue  # a local Binary or Clock: nothing the user reaches
+            shape = tuple(getattr(v, "shape", None) or ())
             unit = v.unit or (v.declaredType.unit if v.declaredType is not None else None) or ""
             if v.name in units:
                 given = units.pop(v.name)
@@ -105,24 +115,73 @@ class FMU(Block):
                 unit = given
             description = v.description or f"{v.causality} {v.name} of {self.path.name}"
             has_start = v.start is not None
-            if value_type == "Int32":
-                self._integers.add(v.name)
             if v.causality in ("input", "output"):
                 self._causality[v.name] = v.causality
                 # an input with a start value may stay unconnected: it keeps that value
                 ports.append(Port(v.name, signal(unit, value_type), description,
-                                  optional=v.causality == "input" and has_start))
-            if not has_start:
+                                  optional=v.causality == "input" and has_start, shape=shape))
+            settable = v.causality in ("parameter", "input") and v.variability != "constant"
+            state = v.name in derivative_of and v.initial in ("exact", "approx")
+            if not has_start or not (settable or state):
                 continue
-            start = float(v.start)
-            if v.causality in ("parameter", "input") and v.variability != "constant":
-                parameters.append(Parameter(
-                    v.name, start, unit, description,
-                    min=float(v.min) if v.min is not None else -math.inf,
-                    max=float(v.max) if v.max is not None else math.inf))
-            elif v.name in derivative_of and v.initial in ("exact", "approx"):
-                states.append(State(v.name, start, unit, description))
+            names = element_names(v.name, shape)
+            starts = self._starts(v, value_type, len(names))
+            if value_type == "String":
+                self._strings.update(zip(names, starts))
+                continue
+            lo, hi = RANGES.get(value_type, (-math.inf, math.inf))
+            for name, start in zip(names, starts):
+                self._types[name] = value_type
+                if settable:
+                    parameters.append(Parameter(
+                        name, start, unit, description,
+                        min=max(lo, float(v.min)) if v.min is not None else lo,
+                        max=min(hi, float(v.max)) if v.max is not None else hi))
+                else:
+                    states.append(State(name, start, unit, description))
         return tuple(ports), tuple(parameters), tuple(states)
+
+    def _value_type(self, v) -> str | None:
+        """The variable's type as value_types names it; None for a local one the engine
+        need not carry. A Binary, Clock, clocked or oversized variable the user would reach
+        (an input, an output, a parameter) refuses the FMU, naming it."""
+        value_type = canonical(v.type)
+        shape = tuple(getattr(v, "shape", None) or ())
+        reached = v.causality in ("input", "output", "parameter", "structuralParameter")
+        why = None
+        if code(value_type) is None:
+            why = f"is of type {v.type}, which the engine cannot carry (Binary and Clock " \
+                  "variables are not supported)"
+        elif getattr(v, "clocks", None):
+            why = "is clocked (clocks=...); clocked variables are not supported"
+        elif shape and value_type == "String":
+            why = f"is a String array {list(shape)}; String arrays are not supported"
+        elif size(shape) > MAX_ARRAY:
+            why = f"is an array of {size(shape)} elements; at most {MAX_ARRAY} are supported"
+        if why is None:
+            return value_type
+        if reached or v.name in self._state_names:
+            raise FmuError(f"{self._file()}: {v.causality} variable '{v.name}' {why}")
+        return None
+
+    def _starts(self, v, value_type: str, n: int) -> list:
+        """The start values of a variable, one per element (FMI 3 writes an array's start
+        values space-separated, row-major; one value stands for all)."""
+        if value_type == "String":
+            return [str(v.start)] * n
+        words = str(v.start).split() if n > 1 else [str(v.start)]
+        if len(words) == 1:
+            words = words * n
+        if len(words) != n:
+            raise FmuError(f"{self._file()}: variable '{v.name}' has {len(words)} start values "
+                           f"for its {n} elements")
+        if value_type == "Boolean":
+            return [1.0 if w.strip() in ("true", "1") else 0.0 for w in words]
+        try:
+            return [float(w) for w in words]
+        except ValueError:
+            raise FmuError(f"{self._file()}: variable '{v.name}' has the start value "
+                           f"'{v.start}', which is not a {value_type}") from None
 
     # --- Block's interface -------------------------------------------------------------
     def _file(self) -> str:
@@ -131,16 +190,25 @@ class FMU(Block):
     def _where(self) -> str:
         return f"FMU '{self.name}' ({self.path.name})"
 
+    def fmu_starts(self) -> dict:
+        """Every value set on the FMU before it initialises, by name (Strings too)."""
+        return {**self.values, **self.starts, **self._strings}
+
+    def settable_names(self) -> list[str]:
+        return super().settable_names() + list(self._strings)
+
     def set(self, key: str, value) -> None:
-        """As for our components; an Int32 variable takes whole numbers only."""
-        if key in self._integers:
-            try:
-                whole = float(value).is_integer()
-            except (TypeError, ValueError):
-                whole = True  # not a number: Block.set names it so
-            if not whole:
+        """As for our components, each value checked against its FMI type: whole numbers
+        within range for the integer types, True/False or 1/0 for Boolean, text for String."""
+        value_type = "String" if key in self._strings else self._types.get(key)
+        if value_type is not None:
+            why = check_value(value_type, value)
+            if why is not None:
                 raise ComponentError(f"{self._where()}: {key} = {value!r} is not allowed; "
-                                     f"{key} is an Int32 variable: it takes whole numbers")
+                                     f"{key} is {article(value_type)} variable: it {why}")
+        if value_type == "String":
+            self._strings[key] = value
+            return
         super().set(key, value)
 
     # --- which modes can run it -------------------------------------------------------

@@ -7,16 +7,24 @@ from pathlib import Path
 import numpy as np
 
 
+def _column(values) -> np.ndarray:
+    """Numbers as floats (every numeric FMI type, Booleans as 0/1); text (a String
+    variable's values) as an object array."""
+    values = np.asarray(values)
+    return values.astype(object) if values.dtype.kind in "OUS" else np.asarray(values, dtype=float)
+
+
 class Table:
     """Columns of equal length, by name; ``table['block.x']`` is a numpy array."""
 
     def __init__(self, columns: dict[str, np.ndarray]):
-        self._columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
+        self._columns = {k: _column(v) for k, v in columns.items()}
 
     @classmethod
-    def from_rows(cls, names: list[str], rows: list[list[float]]) -> "Table":
-        data = np.array(rows, dtype=float).reshape(len(rows), len(names))
-        return cls({name: data[:, i] for i, name in enumerate(names)})
+    def from_rows(cls, names: list[str], rows: list[list]) -> "Table":
+        """Rows of numbers (and text, for String variables), a column per name."""
+        data = np.array(rows, dtype=object).reshape(len(rows), len(names))
+        return cls({name: _column(list(data[:, i])) for i, name in enumerate(names)})
 
     @property
     def columns(self) -> list[str]:
@@ -36,7 +44,7 @@ class Table:
 
     def to_structured(self) -> np.ndarray:
         """The fmpy/numpy shape: a structured array with one field per column."""
-        out = np.zeros(len(self), dtype=[(name, float) for name in self._columns])
+        out = np.zeros(len(self), dtype=[(name, v.dtype) for name, v in self._columns.items()])
         for name, values in self._columns.items():
             out[name] = values
         return out
@@ -46,7 +54,7 @@ class Table:
             writer = csv.writer(fh)
             writer.writerow(self.columns)
             for row in zip(*self._columns.values()):
-                writer.writerow([repr(float(v)) for v in row])
+                writer.writerow([v if isinstance(v, str) else repr(float(v)) for v in row])
 
 
 class Result(Table):

@@ -108,7 +108,8 @@ class Domain:
     name: str
     across: tuple[tuple[str, str, str], ...]  # (name, unit, description), highest derivative last
     flow: tuple[str, str, str] | None          # None for plain signals
-    value_type: str = "Float64"                # FMI type of the variables (signals: Int32 too)
+    value_type: str = "Float64"                # FMI type of the variables (a signal: any
+                                               # FMI type, assemblies.value_types)
 
 
 TRANSLATIONAL = Domain(
@@ -159,6 +160,9 @@ class Port:
     # (an FMU's input keeps its start value, as FMI defines); our components' inputs
     # must always be connected
     optional: bool = False
+    # an FMI 3 array signal: its shape; connected whole, element by element in row-major
+    # order (assemblies.value_types.element_names); () for a scalar
+    shape: tuple = ()
 
 
 # How a port crosses the FMU boundary.

@@ -15,6 +15,7 @@ import threading
 import numpy as np
 
 from ..masters.cosim import SimulationError
+from ..value_types import STRING
 
 _P = C.POINTER
 
@@ -24,7 +25,8 @@ class EngineError(SimulationError):
 
 
 class Variable(C.Structure):  # eng_variable
-    _fields_ = [("instance", C.c_int), ("vr", C.c_uint32), ("is_int", C.c_int)]
+    _fields_ = [("instance", C.c_int), ("vr", C.c_uint32), ("type", C.c_int),
+                ("element", C.c_int), ("size", C.c_int)]
 
 
 class InstanceSpec(C.Structure):  # eng_instance_spec
@@ -36,16 +38,18 @@ class InstanceSpec(C.Structure):  # eng_instance_spec
                 ("float_start_values", _P(C.c_double)),
                 ("n_int_starts", C.c_int), ("int_start_vr", _P(C.c_uint32)),
                 ("int_start_values", _P(C.c_int32)),
-                ("n_event_outputs", C.c_int), ("event_output_vr", _P(C.c_uint32)),
-                ("event_output_is_int", _P(C.c_int)),
+                ("n_event_outputs", C.c_int), ("event_outputs", _P(Variable)),
                 ("state_vr", _P(C.c_uint32)), ("derivative_vr", _P(C.c_uint32)),
-                ("completed_step_not_needed", C.c_int), ("foreign", C.c_int)]
+                ("completed_step_not_needed", C.c_int), ("foreign", C.c_int),
+                ("n_typed_starts", C.c_int), ("typed_starts", _P(Variable)),
+                ("typed_start_values", _P(C.c_double)),
+                ("n_string_starts", C.c_int), ("string_start_vr", _P(C.c_uint32)),
+                ("string_start_values", _P(C.c_char_p))]
 
 
 class EventGroup(C.Structure):  # eng_event_group
     _fields_ = [("instance", C.c_int), ("first_indicator", C.c_int), ("n_indicators", C.c_int),
-                ("n_outputs", C.c_int), ("output_vr", _P(C.c_uint32)),
-                ("output_is_int", _P(C.c_int))]
+                ("n_outputs", C.c_int), ("outputs", _P(Variable))]
 
 
 class Coupling(C.Structure):  # eng_coupling
@@ -99,8 +103,7 @@ def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict
     """One instance through its Model Exchange or Co-Simulation interface: the extracted
     FMU, and its parameters and start values by name."""
     identifier = fmu.me_identifier if model_exchange else fmu.cs_identifier
-    floats, ints = fmu.typed_starts(name, starts)
-    outs = [fmu.variable(name, v) for v in event_outputs]
+    floats, ints, typed, strings = fmu.typed_starts(name, starts)
     s = InstanceSpec()
     s.unzip_dir, s.model_identifier = fmu.unzip_dir.encode(), identifier.encode()
     s.instantiation_token, s.instance_name = fmu.token.encode(), name.encode()
@@ -117,13 +120,50 @@ def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict
     s.n_int_starts = len(ints)
     s.int_start_vr = keep.array(C.c_uint32, [vr for vr, _ in ints])
     s.int_start_values = keep.array(C.c_int32, [v for _, v in ints])
-    s.n_event_outputs = len(outs)
-    s.event_output_vr = keep.array(C.c_uint32, [vr for vr, _ in outs])
-    s.event_output_is_int = keep.array(C.c_int, [int(i) for _, i in outs])
-    if fmu.n_states and len(fmu.states) == len(fmu.derivatives) == fmu.n_states:
+    s.n_typed_starts = len(typed)
+    s.typed_starts = keep.array(Variable, [Variable(0, *v) for v, _ in typed])
+    s.typed_start_values = keep.array(C.c_double, [x for _, x in typed])
+    set_strings(keep, s, strings)
+    s.n_event_outputs = len(event_outputs)
+    s.event_outputs = keep.array(Variable, [variable(fmu, name, 0, v) for v in event_outputs])
+    arrays = any(fmu.variables[v][3] > 1 for v in fmu.states)
+    if fmu.n_states and len(fmu.states) == len(fmu.derivatives) == fmu.n_states and not arrays:
         s.state_vr = keep.array(C.c_uint32, [fmu.variables[v][0] for v in fmu.states])
         s.derivative_vr = keep.array(C.c_uint32, [fmu.variables[v][0] for v in fmu.derivatives])
+    elif arrays:
+        # an array state is one value reference for many states: the engine's Jacobian
+        # from directional derivatives is per value reference, so it takes differences
+        s.provides_directional_derivative = 0
     return s
+
+
+def set_strings(keep: Keep, spec: InstanceSpec, strings: list) -> None:
+    """The String parameters and start values [(vr, text)] of an instance spec."""
+    spec.n_string_starts = len(strings)
+    spec.string_start_vr = keep.array(C.c_uint32, [vr for vr, _ in strings])
+    spec.string_start_values = keep.array(C.c_char_p, [t.encode() for _, t in strings])
+
+
+def variable(fmu, instance: str, index: int, name: str) -> Variable:
+    """Variable `name` of `fmu`, instance `index` of the run (an array element too)."""
+    return Variable(index, *fmu.variable(instance, name))
+
+
+def needs_difference_jacobian(a: Variable, b: Variable) -> bool:
+    """A coupling the engine's Jacobian from directional derivatives cannot carry (one
+    of Float32 or array elements: c/jacobian.h); discrete ones carry nothing anyway."""
+    continuous = {0, 2}
+    plain = a.type == b.type == 0 and a.size <= 1 and b.size <= 1
+    return not plain and a.type in continuous and b.type in continuous
+
+
+def typed_column(lib, fmu, name: str | None, values: np.ndarray) -> np.ndarray:
+    """A column of variable `name` (None: time) as its values: a String's string-table
+    indices as text (an object array), every other type as the numbers they are."""
+    if name is None or fmu.variables[name][1] != STRING:
+        return values
+    return np.array([(lib.eng_string(int(i)) or b"").decode("utf-8", "replace") if i == i
+                     else None for i in values], dtype=object)
 
 
 class Progress:
@@ -206,3 +246,7 @@ def declare(lib) -> None:
     lib.eng_run_events.restype = C.c_int
     lib.eng_run_free.argtypes = [C.c_void_p]
     lib.eng_run_free.restype = None
+    lib.eng_string.argtypes = [C.c_long]
+    lib.eng_string.restype = C.c_char_p
+    lib.eng_strings_clear.argtypes = []
+    lib.eng_strings_clear.restype = None

@@ -35,9 +35,10 @@ from ..inputs import with_inputs
 from ..masters.extrapolation import derivative_couplings, is_held
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
+from ..value_types import CODES, CONTINUOUS
 from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, EngineError,
-                      InstanceSpec, Keep, Progress, Stats, Variable, declare, instance_spec,
-                      run_events)
+                      InstanceSpec, Keep, Progress, Stats, Variable, declare, typed_column,
+                      instance_spec, run_events)
 from .build import library
 from .prepare import prepared, record_columns, rest_groups
 from .restore import inexact_restores
@@ -56,6 +57,7 @@ DEFAULT_SCHEME = {"adaptive": True, "extrapolation": 1, "tol": 1e-5}
 
 _P = C.POINTER
 _INT = _P(C.c_int)
+CONTINUOUS_CODES = {CODES[t] for t in CONTINUOUS}
 
 
 class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
@@ -88,7 +90,8 @@ class _CosimStats(C.Structure):  # cosim.h: eng_cosim_stats
 @dataclass
 class CouplingPlan:
     """An assembly's structure as the C master takes it: every variable as (instance
-    index, value reference, is Int32). Shared by a run and by an exported assembly FMU,
+    index, value reference, type code, element, array size: binding.Variable's fields).
+    Shared by a run and by an exported assembly FMU,
     which hands the same numbers to the same master in its doStep."""
     index: dict                # instance name -> index
     fmus: dict                 # instance name -> PreparedFmu
@@ -101,9 +104,8 @@ class CouplingPlan:
     sweep_order: list          # instance indices, Gauss-Seidel order
     states: list               # the continuous states the adaptive step estimates on
 
-    def variable(self, instance: str, name: str) -> tuple[int, int, int]:
-        vr, is_int = self.fmus[instance].variable(instance, name)
-        return self.index[instance], vr, int(is_int)
+    def variable(self, instance: str, name: str) -> tuple[int, int, int, int, int]:
+        return (self.index[instance], *self.fmus[instance].variable(instance, name))
 
 
 def coupling_plan(assembly: Assembly, fmus: dict) -> CouplingPlan:
@@ -114,7 +116,8 @@ def coupling_plan(assembly: Assembly, fmus: dict) -> CouplingPlan:
         source, target = plan.variable(*c.source), plan.variable(*c.target)
         plan.pairs.append((source, target, c.gain))
         # an input the FMU extrapolates itself (s with its v and a) is set as it is
-        plan.held.append(int(is_held(c.target[1], fmus[c.target[0]].chained, target[2])))
+        plan.held.append(int(is_held(c.target[1], fmus[c.target[0]].chained,
+                                     target[2] not in CONTINUOUS_CODES)))
     plan.derivative = derivative_couplings(couplings, {n: fmus[n].chained for n in names})
     depends = {n: fmus[n].depends for n in names}
     inputs = {n: fmus[n].inputs for n in names}
@@ -239,6 +242,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     spec.progress = progress_cb.callback
     lib = _lib()
     stats, cstats = Stats(), _CosimStats()
+    lib.eng_strings_clear()  # String values of this run only (c/engine.h)
     with progress_cb.sigint():
         run = lib.eng_cosimulate(C.byref(spec), C.byref(stats), C.byref(cstats))
     try:
@@ -252,8 +256,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         for i, n in enumerate(names):
             rows = run_events(lib, run, i)
             if len(rows):
-                events[n] = Table({name: rows[:, j] for j, name in enumerate(
-                    ["time"] + [f"{n}.{o}" for o in fmus[n].outputs])})
+                events[n] = Table({name: typed_column(lib, fmus[n], o, rows[:, j]) for j, (name, o)
+                                   in enumerate([("time", None)] + [(f"{n}.{o}", o) for o
+                                                                   in fmus[n].outputs])})
     finally:
         lib.eng_run_free(run)
     terminated = None
@@ -285,7 +290,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     if adaptive:
         settings.update(tol=tol, h_min=cstats.h_min, h_max=cstats.h_max,
                         error_ratio_max=cstats.error_ratio_max)
-    return Result({name: out[:, j] for j, name in enumerate(header)}, events, settings)
+    kinds = [None] + [(fmus[i], v) for i, v in columns]
+    return Result({name: out[:, j] if kinds[j] is None else typed_column(lib, *kinds[j], out[:, j])
+                   for j, name in enumerate(header)}, events, settings)
 
 
 def _failure(stats, cstats, couplings, groups, newton, max_iterations) -> str:

@@ -78,31 +78,40 @@ class _Plan:
         specs = []
         for name, fmu, keys in instances:
             spec = B.instance_spec(keep, name, fmu, True, {k: 0 for k in keys})
-            floats = [k for k in keys if not fmu.variable(name, k)[1]]
-            ints = [k for k in keys if fmu.variable(name, k)[1]]
-            f_values, i_values = np.zeros(max(1, len(floats))), np.zeros(max(1, len(ints)),
-                                                                        dtype=np.int32)
+            # the keys in the order typed_starts splits them: each list's values are
+            # refilled per run in place (set_starts)
+            lists = ([], [], [], [])
+            for k in keys:
+                lists[fmu.start_list(name, k)].append(k)
+            f_values, i_values = np.zeros(max(1, len(lists[0]))), np.zeros(max(1, len(lists[1])),
+                                                                           dtype=np.int32)
+            t_values = np.zeros(max(1, len(lists[2])))
             spec.float_start_values = keep.numpy(f_values, C.c_double)
             spec.int_start_values = keep.numpy(i_values, C.c_int32)
-            self.start_keys.append((floats, ints))
-            self.start_arrays.append((f_values, i_values))
+            spec.typed_start_values = keep.numpy(t_values, C.c_double)
+            self.start_keys.append(lists)
+            self.start_arrays.append((f_values, i_values, t_values))
             specs.append(spec)
         self.specs = (B.InstanceSpec * len(specs))(*specs)
+        self.string_keep = [B.Keep() for _ in specs]  # each instance's String starts, per run
 
         def variable(inst_name, var):
-            i = index[inst_name]
-            vr, is_int = self.fmus[i].variable(inst_name, var)
-            return B.Variable(i, vr, int(is_int))
+            return B.variable(self.fmus[index[inst_name]], inst_name, index[inst_name], var)
 
         self.n_couplings = len(couplings)
         self.couplings = (B.Coupling * max(1, len(couplings)))(*[
             B.Coupling(variable(*c.source), variable(*c.target), c.gain) for c in couplings])
+        for c in self.couplings[:len(couplings)]:
+            if B.needs_difference_jacobian(c.source, c.target):
+                for i in (c.source.instance, c.target.instance):
+                    self.specs[i].provides_directional_derivative = 0
         self.continuous = None if continuous is None else keep.array(
             C.c_int, [int(needed) for needed in continuous])
         self.rows = None if rows is None else keep.array(C.c_int, [int(needed) for needed in rows])
         self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
                          in zip(couplings, continuous or []) if not needed]
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
+        self.column_vars = [(self.fmus[i], v) for i, v in columns]
         self.columns = (B.Variable * max(1, len(columns)))(*[
             variable(self.names[i], v) for i, v in columns])
         self.column_state = keep.array(C.c_int, [
@@ -111,18 +120,21 @@ class _Plan:
         self.groups = groups
         gs = []
         for i, first, count, outputs in groups:
-            outs = [self.fmus[i].variable(self.names[i], v) for v in outputs]
-            gs.append(B.EventGroup(i, first, count, len(outs),
-                                   keep.array(C.c_uint32, [vr for vr, _ in outs]),
-                                   keep.array(C.c_int, [int(k) for _, k in outs])))
+            gs.append(B.EventGroup(i, first, count, len(outputs), keep.array(B.Variable, [
+                B.variable(self.fmus[i], self.names[i], i, v) for v in outputs])))
         self.group_array = (B.EventGroup * max(1, len(gs)))(*gs)
 
     def set_starts(self, starts: list[dict]) -> None:
         """This run's parameters and start values, instance by instance."""
-        for (floats, ints), (f_values, i_values), values in zip(self.start_keys,
-                                                                self.start_arrays, starts):
+        for i, ((floats, ints, typed, strings), (f_values, i_values, t_values), values) in \
+                enumerate(zip(self.start_keys, self.start_arrays, starts)):
             f_values[:len(floats)] = [values[k] for k in floats]
             i_values[:len(ints)] = [int(values[k]) for k in ints]
+            t_values[:len(typed)] = [values[k] for k in typed]
+            if strings:
+                self.string_keep[i] = keep = B.Keep()
+                B.set_strings(keep, self.specs[i], [
+                    (self.fmus[i].variable(self.names[i], k)[0], values[k]) for k in strings])
 
     def _buffers(self, start_time, stop_time, step):
         """The output times, the buffers the C writes (rows, when each instance fell
@@ -157,6 +169,7 @@ class _Plan:
                         self.rest_group, pointers[2], self.continuous, self.column_state,
                         self.rows, JACOBIANS[jacobian])
         stats = B.Stats()
+        lib.eng_strings_clear()  # String values of this run only (c/engine.h)
         started = wallclock.perf_counter()
         with prog.sigint():
             run = lib.eng_simulate_me(C.byref(spec), C.byref(stats))
@@ -177,8 +190,8 @@ class _Plan:
         n = stats.n_rows
         rows = out[:n].copy()  # the buffers serve the plan's next run
         table = {"time": times[:n].copy()}
-        for k, column in enumerate(self.column_names):
-            table[column] = rows[:, k]
+        for k, (column, (fmu, var)) in enumerate(zip(self.column_names, self.column_vars)):
+            table[column] = B.typed_column(lib, fmu, var, rows[:, k])
         by = stats.terminated_by
         settings = {
             "start_time": start_time, "stop_time": stop_time, "step": step,
@@ -265,7 +278,8 @@ def _check_exact(jacobian, plan: _Plan) -> None:
     if jacobian != "exact":
         return
     coupled = {end.instance for c in plan.couplings[:plan.n_couplings]
-               for end in (c.source, c.target) if not c.source.is_int and not c.target.is_int}
+               for end in (c.source, c.target)
+               if c.source.type == c.target.type == 0 and c.source.size <= 1 >= c.target.size}
     for i, (name, fmu) in enumerate(zip(plan.names, plan.fmus)):
         if (fmu.n_states or i in coupled) and not (
                 fmu.me_directional_derivative
@@ -315,7 +329,8 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         columns = [(names.index(i), v) for i, v in recorded]
         groups = [(i, 0, fmus[n].n_event_indicators, fmus[n].outputs)
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
-        keys = [(n, fmus[n], [*c.values, *c.starts]) for n, c in assembly.components.items()]
+        # every value set before initialisation (a foreign FMU's Strings too)
+        keys = [(n, fmus[n], [*c.fmu_starts()]) for n, c in assembly.components.items()]
         ordered = coupling_order(couplings, fmus)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))
@@ -330,12 +345,14 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
     # the run's wall time leaves out building and loading the FMUs (seconds once, then cached)
     setup_s, started = wallclock.perf_counter() - started, wallclock.perf_counter()
     with plan.lock:
-        plan.set_starts([{**c.values, **c.starts} for c in assembly.components.values()])
+        plan.set_starts([c.fmu_starts() for c in assembly.components.values()])
         table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
                                            integrator(assembly, method), progress,
                                            event_subsamples, "me", jacobian, start_time)
-    tables = {plan.names[i]: Table.from_rows(["time"] + [f"{plan.names[i]}.{v}" for v in outputs],
-                                             rows)
+    tables = {plan.names[i]: Table({name: B.typed_column(_engine(), plan.fmus[i], v, rows[:, j])
+                                    for j, (name, v) in enumerate(
+                                        [("time", None)]
+                                        + [(f"{plan.names[i]}.{v}", v) for v in outputs])})
               for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
     settings["wall_s"] = wallclock.perf_counter() - started
     settings["setup_s"] = setup_s

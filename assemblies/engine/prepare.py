@@ -31,6 +31,7 @@ from fmus.recipe import combine, files_digest
 
 from ..assembly import AssemblyError
 from ..foreign import FMU
+from ..value_types import MAX_ARRAY, STRING, code, element_names, size
 
 _lock = threading.Lock()
 _by_key: dict = {}
@@ -50,7 +51,10 @@ class PreparedFmu:
     can_get_set_state: bool                 # Co-Simulation capability flags
     provides_directional_derivative: bool
     me_directional_derivative: bool         # the Model Exchange interface's flag
-    variables: dict = field(default_factory=dict)  # name -> (value reference, is Int32)
+    # name -> (value reference, type code (value_types.CODES), element, array size): a
+    # scalar, or one element of an FMI 3 array (its name ``x[2]``: value_types)
+    variables: dict = field(default_factory=dict)
+    arrays: dict = field(default_factory=dict)     # array name -> its elements' names
     outputs: list = field(default_factory=list)
     inputs: list = field(default_factory=list)
     depends: dict = field(default_factory=dict)    # output -> the inputs it depends on
@@ -73,19 +77,30 @@ class PreparedFmu:
         """The Co-Simulation identifier (what the cosim master loads)."""
         return self.cs_identifier
 
-    def variable(self, instance: str, name: str) -> tuple[int, bool]:
+    def variable(self, instance: str, name: str) -> tuple[int, int, int, int]:
+        """(value reference, type code, element, size) of a variable or array element."""
         if name not in self.variables:
             raise AssemblyError(f"{instance} has no variable '{name}'")
         return self.variables[name]
 
-    def typed_starts(self, instance: str, starts: dict) -> tuple[list, list]:
-        """Parameters and start values by name as ([(vr, float)], [(vr, int)]): the two
-        value types the FMI calls set separately."""
-        floats, ints = [], []
+    def start_list(self, instance: str, name: str) -> int:
+        """Which of typed_starts' lists a value set before initialisation belongs in: 0
+        a Float64 scalar, 1 an Int32 one, 2 another numeric type or an array element,
+        3 a String (the engine sets each list its own way: eng_instance_spec)."""
+        _, kind, _, n = self.variable(instance, name)
+        return 3 if kind == STRING else 2 if n > 1 or kind not in (0, 1) else kind
+
+    def typed_starts(self, instance: str, starts: dict) -> tuple[list, list, list, list]:
+        """Parameters and start values by name as the engine sets them:
+        ([(vr, float)] of Float64 scalars, [(vr, int)] of Int32 ones, [(variable, float)]
+        of the other numeric types and array elements, [(vr, str)] of Strings)."""
+        lists = ([], [], [], [])
+        convert = (float, int, float, str)
         for name, value in starts.items():
-            vr, is_int = self.variable(instance, name)
-            (ints if is_int else floats).append((vr, int(value) if is_int else float(value)))
-        return floats, ints
+            var = self.variable(instance, name)
+            k = self.start_list(instance, name)
+            lists[k].append((var if k == 2 else var[0], convert[k](value)))
+        return lists
 
 
 @functools.lru_cache(maxsize=None)
@@ -117,34 +132,65 @@ def _read(path: str, unzip_dir: str) -> PreparedFmu:
         fmi_version=int(md.fmiVersion[0]),
         me_identifier=me.modelIdentifier if me else None,
         cs_identifier=cs.modelIdentifier if cs else None,
-        n_states=len(md.derivatives), n_event_indicators=md.numberOfEventIndicators or 0,
+        n_states=sum(_size(u.variable) for u in md.derivatives),
+        n_event_indicators=_event_indicators(md),
         can_get_set_state=bool(cs and cs.canGetAndSetFMUstate),
         # fmpy reads FMI 2's completedIntegratorStepNotNeeded into this flag too
         completed_step_not_needed=bool(me and not me.needsCompletedIntegratorStep),
         **_directional_derivatives(md, unzip_dir))
-    p.variables = {v.name: (v.valueReference, v.type in ("Int32", "Integer"))
-                   for v in md.modelVariables}
-    p.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
-    p.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
-    p.depends = {u.variable.name: _inputs_of([u], p.inputs) for u in md.outputs}
+    carried = [v for v in md.modelVariables
+               if code(v.type) is not None and _size(v) <= MAX_ARRAY and _size(v) > 0]
+    for v in carried:
+        shape = _shape(v)
+        names = element_names(v.name, shape)
+        if shape:
+            p.arrays[v.name] = names
+        p.variables.update({name: (v.valueReference, code(v.type), i, size(shape) if shape else 1)
+                            for i, name in enumerate(names)})
+    p.outputs = [n for v in carried if v.causality == "output" for n in _elements(v)]
+    p.inputs = [n for v in carried if v.causality == "input" for n in _elements(v)]
+    p.depends = {n: _inputs_of([u], p.inputs) for u in md.outputs for n in _elements(u.variable)}
     p.derivatives_depend = _inputs_of(md.derivatives, p.inputs)
     # FMI 2 does not list the indicators' dependencies, and FMI 3 need not
     indicators = getattr(md, "eventIndicators", None) or []
     p.indicators_depend = (_inputs_of(indicators, p.inputs)
-                           if len(indicators) == p.n_event_indicators else set(p.inputs))
-    p.states = [u.variable.derivative.name for u in md.derivatives]
-    p.derivatives = [u.variable.name for u in md.derivatives]
+                           if sum(map(_size, (u.variable for u in indicators)))
+                           == p.n_event_indicators else set(p.inputs))
+    # an FMI 3 array state is as many states as it has elements, in row-major order
+    p.states = [n for u in md.derivatives for n in _elements(u.variable.derivative)]
+    p.derivatives = [n for u in md.derivatives for n in _elements(u.variable)]
     return p
 
 
+def _shape(v) -> tuple:
+    return tuple(getattr(v, "shape", None) or ())
+
+
+def _size(v) -> int:
+    return size(_shape(v))
+
+
+def _elements(v) -> list[str]:
+    """A variable's names as the engine knows them: itself, or its array's elements."""
+    return element_names(v.name, _shape(v))
+
+
+def _event_indicators(md) -> int:
+    """FMI 3 lists its indicators (an array counts its elements); FMI 2 counts them."""
+    indicators = getattr(md, "eventIndicators", None)
+    if md.fmiVersion.startswith("3") and indicators:
+        return sum(_size(u.variable) for u in indicators)
+    return md.numberOfEventIndicators or 0
+
+
 def _inputs_of(unknowns, inputs: list) -> set:
-    """The inputs some of `unknowns` (ModelStructure entries) depend on; all of them
-    where an entry does not list its dependencies."""
+    """The inputs (array inputs by their elements) some of `unknowns` (ModelStructure
+    entries) depend on; all of them where an entry does not list its dependencies."""
     depend = set()
     for u in unknowns:
         if u.dependencies is None:
             return set(inputs)
-        depend |= {d.name for d in u.dependencies if d.causality == "input"}
+        depend |= {n for d in u.dependencies if d.causality == "input" for n in _elements(d)}
     return depend
 
 
@@ -167,7 +213,7 @@ def _directional_derivatives(md, unzip_dir: str) -> dict:
 
 
 #: what a summary JSON holds; one written with other fields is read again from its FMU
-_SUMMARY_VERSION = 3
+_SUMMARY_VERSION = 4
 
 
 def _prepared_in_cache(path: Path) -> PreparedFmu:
@@ -386,6 +432,9 @@ def record_columns(fmus: dict, record: list[str] | None) -> list[tuple[str, str]
         if instance not in fmus:
             raise AssemblyError(f"cannot record '{ref}': no instance '{instance}'; "
                                 f"instances: {', '.join(fmus)}")
+        if var in fmus[instance].arrays:  # an array: a column per element
+            columns += [(instance, element) for element in fmus[instance].arrays[var]]
+            continue
         if var not in fmus[instance].variables:
             raise AssemblyError(f"cannot record '{ref}': {instance} has no variable '{var}'")
         columns.append((instance, var))

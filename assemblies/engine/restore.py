@@ -23,7 +23,7 @@ import threading
 
 from ..experiment import restore_mismatch
 from ..foreign import FMU
-from .binding import InstanceSpec, Keep, instance_spec
+from .binding import InstanceSpec, Keep, Variable, instance_spec, variable
 from .build import library
 
 _P = C.POINTER
@@ -39,8 +39,8 @@ class _Check(C.Structure):  # restore_check.h: eng_restore_check
 @functools.lru_cache(maxsize=None)
 def _check_fn():
     fn = library().eng_check_restore
-    fn.argtypes = [_P(InstanceSpec), C.c_double, C.c_double, C.c_int, _P(C.c_uint32),
-                   _P(C.c_int), _P(_Check)]
+    fn.argtypes = [_P(InstanceSpec), C.c_double, C.c_double, C.c_int, _P(Variable),
+                   _P(_Check)]
     fn.restype = None
     return fn
 
@@ -63,13 +63,12 @@ def restore_problem(name: str, component, fmu, step: float, tolerance: float) ->
         if key in _verdicts:
             return _verdicts[key]
     names = compared_variables(fmu)
-    refs = [fmu.variable(name, v) for v in names]
+    refs = [variable(fmu, name, 0, v) for v in names]
     keep = Keep()
     spec = instance_spec(keep, name, fmu, False, starts)
     check = _Check()
     _check_fn()(C.byref(spec), float(step), float(tolerance), len(refs),
-                             keep.array(C.c_uint32, [vr for vr, _ in refs]),
-                             keep.array(C.c_int, [int(i) for _, i in refs]), C.byref(check))
+                keep.array(Variable, refs), C.byref(check))
     if check.verdict == 1:
         problem = None
     elif check.verdict == 0:

@@ -47,6 +47,7 @@ from components.errors import MechfmuError
 from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
+from ..value_types import CONTINUOUS, canonical
 from ..experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                           fixed_step_fallback, output_times, restore_mismatch)
 from ..foreign import FMU, check_mode
@@ -58,6 +59,11 @@ from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_a
 from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, is_held,
                             step_mean)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
+
+
+def _scaled(gain: float, value):
+    """gain * value for a number (gain is 1 but for flows); a String passes as it is."""
+    return value if isinstance(value, str) else gain * value
 
 
 class SimulationError(MechfmuError, RuntimeError):
@@ -142,8 +148,10 @@ class _Instance:
             self.chained = derivative_inputs(component)
         self.fmi_version = int(md.fmiVersion[0])
         self.variables = {v.name: v for v in md.modelVariables}
-        # Int32 (FMI 2: Integer) variables are got and set as such; all else as Float64/Real
-        self.integers = {v.name for v in md.modelVariables if v.type in ("Int32", "Integer")}
+        # each variable is got and set through its own type's call (value_types); the
+        # discrete ones are held over a step, never extrapolated
+        self.integers = {v.name for v in md.modelVariables
+                         if canonical(v.type) not in CONTINUOUS}
         self.can_get_set_state = bool(md.coSimulation.canGetAndSetFMUstate)
         self.outputs = [v.name for v in md.modelVariables if v.causality == "output"]
         self.inputs = [v.name for v in md.modelVariables if v.causality == "input"]
@@ -245,44 +253,44 @@ class _Instance:
 
     def vr(self, name: str):
         if name not in self.variables:
+            array = name.partition("[")[0]
+            if name.endswith("]") and getattr(self.variables.get(array), "dimensions", None):
+                raise AssemblyError(f"{self.name}: the fmpy reference master does not get or "
+                                    f"set FMI 3 arrays ({name}); run it in the compiled "
+                                    "engine (engine 'c')")
             raise AssemblyError(f"{self.name} has no variable '{name}'")
         return self.variables[name]
 
-    def get(self, names: list[str]) -> list[float]:
-        """Values of `names`, with one FMI call per variable type (ctypes calls are slow)."""
+    def _call_type(self, name: str) -> str:
+        """The type in the name of the FMI call of variable `name`: an Enumeration is FMI 2's
+        Integer and FMI 3's Int64."""
+        t = self.vr(name).type
+        return {"Enumeration": "Integer" if self.fmi_version == 2 else "Int64"}.get(t, t)
+
+    def get(self, names: list[str]) -> list:
+        """Values of `names` (numbers as floats, Strings as text), with one FMI call per
+        variable type (ctypes calls are slow)."""
         values = [0.0] * len(names)
-        for type_name, getter in zip(("Float64", "Int32"), self._getters):
+        for type_name in dict.fromkeys(self._call_type(n) for n in names):
             picked = [(i, self.vr(n).valueReference) for i, n in enumerate(names)
-                      if self.is_int(n) == (type_name == "Int32")]
-            if picked:
-                got = self.call(f"get {type_name} outputs", getter, [vr for _, vr in picked])
-                for (i, _), value in zip(picked, got):
-                    values[i] = float(value)
+                      if self._call_type(n) == type_name]
+            got = self.call(f"get {type_name} outputs", getattr(self.fmu, f"get{type_name}"),
+                            [vr for _, vr in picked])
+            for (i, _), value in zip(picked, got):
+                values[i] = value.decode() if isinstance(value, bytes) else \
+                    value if isinstance(value, str) else float(value)
         return values
 
-    @property
-    def _getters(self):
-        """(Float64, Int32) getters: FMI 2 calls them Real and Integer."""
-        if self.fmi_version == 2:
-            return self.fmu.getReal, self.fmu.getInteger
-        return self.fmu.getFloat64, self.fmu.getInt32
-
-    @property
-    def _setters(self):
-        if self.fmi_version == 2:
-            return self.fmu.setReal, self.fmu.setInteger
-        return self.fmu.setFloat64, self.fmu.setInt32
-
     def is_int(self, name: str) -> bool:
+        """A discrete variable (any type but Float64/Float32): held, not extrapolated."""
         self.vr(name)
         return name in self.integers
 
-    def set(self, name: str, value: float) -> None:
-        v = self.vr(name)
-        if self.is_int(name):
-            self.call(f"set {name}", self._setters[1], [v.valueReference], [int(value)])
-        else:
-            self.call(f"set {name} = {value}", self._setters[0], [v.valueReference], [float(value)])
+    def set(self, name: str, value) -> None:
+        v, type_name = self.vr(name), self._call_type(name)
+        cast = {"String": str, "Boolean": bool}.get(type_name, int if self.is_int(name) else float)
+        self.call(f"set {name} = {value!r}", getattr(self.fmu, f"set{type_name}"),
+                  [v.valueReference], [cast(value)])
 
     def partial(self, output: str, input_: str) -> float:
         """d output / d input at the current point (fmi3GetDirectionalDerivative)."""
@@ -378,7 +386,7 @@ class _Master:
                 self.loop_residual = max(self.loop_residual, res)
             else:
                 c = self.couplings[group[0]]
-                self._set(*c.target, c.gain * self._get(*c.source))
+                self._set(*c.target, _scaled(c.gain, self._get(*c.source)))
         for i in self.held:
             value = self._get(*self.couplings[i].target)
             points = [p for p in self.history[i] if p[0] < t - 1e-12 * max(1.0, abs(t))]
@@ -422,7 +430,7 @@ class _Master:
                     ahead = c.source[0] in done
                     if i in self.in_loop and not (i in self.held and extrapolate):
                         continue  # keeps the loop's consistent value from t
-                    now = c.gain * self._get(*c.source) if (ahead or i not in self.in_loop) \
+                    now = _scaled(c.gain, self._get(*c.source)) if (ahead or i not in self.in_loop) \
                         else self.history[i][-1][1]
                     value = self._held_value(i, t, h, t + h if ahead else t, now) \
                         if i in self.held and extrapolate else now

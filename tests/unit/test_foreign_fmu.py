@@ -18,7 +18,7 @@ from foreign_fmus import fake_fmu
 
 # FMI 3 Co-Simulation, with what a model description can hold that ours never does:
 # a structured name, an Int32 output, an output without a unit, an Int32 parameter
-# with a range, a Boolean input (not a port: the engine couples Float64 and Int32)
+# with a range, a Boolean input (a port of its own type)
 FAKE_MD = """<?xml version="1.0" encoding="UTF-8"?>
 <fmiModelDescription fmiVersion="3.0" modelName="Model" instantiationToken="{0000}">
   <CoSimulation modelIdentifier="Model" canGetAndSetFMUState="true"/>
@@ -67,7 +67,7 @@ def test_structured_names_int32_and_unitless_variables(fake, casadi_pi):
     x = FMU(fake)
     ports = {p.name: p.domain for p in x.ports}
     assert ports == {"a.b[1]": signal("N"), "count": signal("", "Int32"),
-                     "y": signal("")}  # "on" is Boolean: no port
+                     "y": signal(""), "on": signal("", "Boolean")}
     asm = Assembly("a")
     asm.add("x", x)
     asm.add("ctrl", FMU(casadi_pi))
@@ -97,8 +97,11 @@ def test_parameters_are_checked_like_ours(casadi_pi, fake):
     with pytest.raises(ComponentError, match=r"parameter gain = -1 is not allowed.*>= 0"):
         FMU(fake, gain=-1)
     asm.set("x.n", 4)
-    with pytest.raises(ComponentError, match=r"unknown name 'on'"):
-        asm.set("x.on", 1)  # a Boolean is neither coupled nor set by the engine
+    asm.set("x.on", False)  # a Boolean is set as one (before issue 24: "unknown name")
+    assert asm.components["x"].values["on"] == 0.0
+    with pytest.raises(ComponentError, match=r"on = 2 is not allowed; on is a Boolean "
+                                             r"variable: it takes True/False \(1/0\)"):
+        asm.set("x.on", 2)
 
 
 def test_connections_check_units_and_types_and_name_both_sides(casadi_pi, fake, tmp_path):
@@ -112,9 +115,11 @@ def test_connections_check_units_and_types_and_name_both_sides(casadi_pi, fake, 
     assert one_line(err) == ("cannot connect ctrl.v to force.f: ctrl.v is Float64 [m/s], "
                              "force.f is Float64 [N]; a connection joins signals of one type "
                              "and unit")
-    with pytest.raises(AssemblyError, match=r"x.count is Int32 \(no unit\), force.f is "
-                                            r"Float64 \[N\]"):
-        asm.connect("x.count", "force.f")
+    # types follow value_types.feeds: never a float into a Boolean (nor into an integer)
+    with pytest.raises(AssemblyError) as err:
+        asm.connect("speed.v", "x.on")
+    assert one_line(err).startswith("cannot connect speed.v to x.on: a Float64 output cannot "
+                                    "feed a Boolean input; an output feeds")
     # a unit the FMU leaves out connects to any unit (FMI says nothing then)...
     asm.connect("x.y", "force.f")
     # ...unless it is declared: units= fills in what the FMU left out, and is checked
@@ -126,7 +131,7 @@ def test_connections_check_units_and_types_and_name_both_sides(casadi_pi, fake, 
                                        r"declares 'N'|the FMU declares 'N'"):
         FMU(fake, units={"a.b[1]": "m"})
     with pytest.raises(FmuError, match=r"units= names variables that are not among its ports: "
-                                       r"speed; ports: a.b\[1\], count, y"):
+                                       r"speed; ports: a.b\[1\], count, y, on"):
         FMU(fake, units={"speed": "m/s"})
 
 

@@ -105,7 +105,7 @@ static int source_value(cosim *c, int k, double t, double *value)
 {
     const eng_variable *v = &c->cfg->couplings[k].source;
     double y;
-    if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &y))
+    if (eng_get_value(c->fmus[v->instance], v, &y))
         return fmu_fail(c, v->instance, "get of a coupled output", t);
     *value = c->cfg->couplings[k].gain * y;
     return 0;
@@ -114,7 +114,7 @@ static int source_value(cosim *c, int k, double t, double *value)
 static int set_input(cosim *c, int k, double value, double t)
 {
     const eng_variable *v = &c->cfg->couplings[k].target;
-    if (eng_set_value(c->fmus[v->instance], v->vr, v->is_int, value))
+    if (eng_set_value(c->fmus[v->instance], v, value))
         return fmu_fail(c, v->instance, "set of a coupled input", t);
     c->u[k] = value;
     return 0;
@@ -136,7 +136,7 @@ static int on_intermediate(void *ctx, fmu_t *f, double time, int get_allowed, in
     row[0] = time;
     for (j = 0; j < spec->n_event_outputs; j++) {
         row[1 + j] = NAN;
-        eng_get_value(f, spec->event_output_vr[j], spec->event_output_is_int[j], &row[1 + j]);
+        eng_get_value(f, &spec->event_outputs[j], &row[1 + j]);
     }
     eng_table_append(in->events, row); /* out of memory: the row is lost, the run goes on */
     return 0;
@@ -343,7 +343,8 @@ static int solve_loop(cosim *c, int group, double t)
                     int tj = cs[j];
                     jac[i * n + j] = i == j ? 1.0 : 0.0;
                     const eng_variable *y = &g->couplings[si].source, *x = &g->couplings[tj].target;
-                    if (x->instance == y->instance) {
+                    /* a discrete or array coupling: no directional derivative of it */
+                    if (x->instance == y->instance && ENG_PLAIN(x) && ENG_PLAIN(y)) {
                         double one = 1.0, d = 0.0;
                         if (fmu_directional_derivative(c->fmus[y->instance], &y->vr, 1, &x->vr, 1,
                                                        &one, &d) != FMU_OK)
@@ -554,7 +555,7 @@ static int restore(cosim *c, const snapshot *s)
     /* the inputs are part of each FMU's state; read them back into the master's copy */
     for (k = 0; k < n; k++) {
         const eng_variable *v = &g->couplings[k].target;
-        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &c->u[k]))
+        if (eng_get_value(c->fmus[v->instance], v, &c->u[k]))
             return fmu_fail(c, v->instance, "get of a coupled input", s->t);
     }
     return 0;
@@ -566,7 +567,7 @@ static int state_vector(cosim *c, double *x, double t)
     int j;
     for (j = 0; j < g->n_states; j++) {
         const eng_variable *v = &g->states[j];
-        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &x[j]))
+        if (eng_get_value(c->fmus[v->instance], v, &x[j]))
             return fmu_fail(c, v->instance, "get of a state", t);
     }
     return 0;
@@ -669,7 +670,7 @@ static int sample(cosim *c, double t, double *row)
     row[0] = t;
     for (j = 0; j < g->n_columns; j++) {
         const eng_variable *v = &g->columns[j];
-        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &row[1 + j]))
+        if (eng_get_value(c->fmus[v->instance], v, &row[1 + j]))
             return fmu_fail(c, v->instance, "get of a recorded output", t);
     }
     return 0;
@@ -953,7 +954,7 @@ static int fall_asleep(cosim *c)
         const eng_variable *v = &g->derivatives[j];
         double d;
         if (c->asleep_since[v->instance] < INFINITY || g->rest_group[v->instance] < 0) continue;
-        if (eng_get_value(c->fmus[v->instance], v->vr, v->is_int, &d))
+        if (eng_get_value(c->fmus[v->instance], v, &d))
             return fmu_fail(c, v->instance, "get of a state derivative", c->t);
         if (d != 0.0) c->moving[v->instance] = 1;
     }

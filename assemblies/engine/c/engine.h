@@ -23,12 +23,37 @@
 #define ENG_API __attribute__((visibility("default")))
 #endif
 
-/* A variable of an instance: a recorded column, an output kept at events. */
+/* The FMI type a variable is got and set with (eng_variable.type). Every value travels
+   as a double in the engine's buffers (columns, couplings, event rows): exact for
+   Float32, the 8/16/32-bit integers, Boolean (0/1) and Int64/UInt64 up to 2^53; a
+   larger Int64/UInt64 value fails the run with a message naming the instance and the
+   value, it is never rounded. A value set into an integer type is rounded to the
+   nearest integer and must lie within the type's range (else the run fails, naming
+   it). Enumeration is FMI 2's Integer call and FMI 3's Int64 call. A String travels
+   as its index in the calling thread's string table (eng_string); 0 and 1 keep the
+   meaning of the former is_int flag (Float64, Int32/FMI 2 Integer). */
+enum {
+    ENG_FLOAT64 = 0, ENG_INT32 = 1, ENG_FLOAT32, ENG_INT8, ENG_UINT8, ENG_INT16, ENG_UINT16,
+    ENG_UINT32, ENG_INT64, ENG_UINT64, ENG_BOOLEAN, ENG_ENUMERATION, ENG_STRING, ENG_N_TYPES
+};
+
+/* A variable of an instance: a recorded column, an output kept at events, a coupled
+   input or output. An element of an FMI 3 array is one variable: the array's value
+   reference, its number of elements (`size`) and the element's index in the array's
+   row-major order; an array is got and set whole (FMI 3 has no element access), so
+   the engine keeps the last values it set of an array input (fmu.c). */
 typedef struct {
     int instance;
     uint32_t vr;
-    int is_int; /* Int32 (FMI 2 Integer); otherwise Float64 (FMI 2 Real) */
+    int type;     /* ENG_FLOAT64 ... ENG_STRING */
+    int element;  /* index in the array, 0 for a scalar */
+    int size;     /* elements of the array; 0 or 1: a scalar */
 } eng_variable;
+
+/* Got or set in one batched fmu_get_float64/fmu_set_float64 with other such variables */
+#define ENG_PLAIN(v) ((v)->type == ENG_FLOAT64 && (v)->size <= 1)
+/* A value that moves between events (extrapolated, in the Jacobian), not a discrete one */
+#define ENG_CONTINUOUS_TYPE(type) ((type) == ENG_FLOAT64 || (type) == ENG_FLOAT32)
 
 typedef struct {
     const char *unzip_dir;           /* the extracted FMU */
@@ -47,10 +72,10 @@ typedef struct {
     const uint32_t *int_start_vr;
     const int32_t *int_start_values;
     /* outputs recorded at this instance's events (time first, then these), by the
-       co-simulation master; the ME master takes them from eng_event_group */
+       co-simulation master; the ME master takes them from eng_event_group (their
+       `instance` is not read) */
     int n_event_outputs;
-    const uint32_t *event_output_vr;
-    const int *event_output_is_int;
+    const eng_variable *event_outputs;
     /* its continuous states and their derivatives (n_states each, in the FMU's order of
        states), for the Jacobian from directional derivatives; NULL: not known */
     const uint32_t *state_vr;
@@ -65,6 +90,16 @@ typedef struct {
        under ENG_JACOBIAN_AUTO its directional derivatives are compared with differences
        before the run trusts them */
     int foreign;
+    /* parameters and start values of the other types and of array elements (their
+       `instance` is not read), set after the float and int ones, in this order; an
+       array's elements are set together as each one is (see eng_variable) */
+    int n_typed_starts;
+    const eng_variable *typed_starts;
+    const double *typed_start_values;
+    /* String parameters and start values */
+    int n_string_starts;
+    const uint32_t *string_start_vr;
+    const char *const *string_start_values;
 } eng_instance_spec;
 
 /* Outputs recorded at the events of some indicators of one instance: one event table
@@ -75,8 +110,7 @@ typedef struct {
     int instance;
     int first_indicator, n_indicators; /* the instance's indicators [first, first + n) */
     int n_outputs;
-    const uint32_t *output_vr;
-    const int *output_is_int;
+    const eng_variable *outputs; /* their `instance` is not read */
 } eng_event_group;
 
 /* target input = gain * source output */
@@ -169,5 +203,15 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats);
 ENG_API int eng_run_events(const eng_run *run, int group, const double **rows, long *n_rows,
                            int *width);
 ENG_API void eng_run_free(eng_run *run);
+
+/* String values travel through the engine as indices into a table of the calling
+   thread (instances.c): eng_string(i) is the text of index i (NULL: no such index),
+   valid until eng_strings_clear, which a caller recording String values calls before a
+   run. The table holds at most ENG_MAX_STRINGS distinct texts of a total of
+   ENG_MAX_STRING_BYTES bytes; a run that would need more fails, naming the variable. */
+#define ENG_MAX_STRINGS 65536
+#define ENG_MAX_STRING_BYTES (64L << 20)
+ENG_API const char *eng_string(long index);
+ENG_API void eng_strings_clear(void);
 
 #endif

@@ -11,12 +11,14 @@
 #include "fmu.h"
 
 #include <dlfcn.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "engine.h"
 #include "fmi2Functions.h"
 #include "fmi3Functions.h"
 
@@ -34,6 +36,10 @@ typedef struct {
     fmi2SetRealTYPE *set_real;
     fmi2GetIntegerTYPE *get_integer;
     fmi2SetIntegerTYPE *set_integer;
+    fmi2GetBooleanTYPE *get_boolean;
+    fmi2SetBooleanTYPE *set_boolean;
+    fmi2GetStringTYPE *get_string;
+    fmi2SetStringTYPE *set_string;
     fmi2GetFMUstateTYPE *get_state;
     fmi2SetFMUstateTYPE *set_state;
     fmi2FreeFMUstateTYPE *free_state;
@@ -64,6 +70,26 @@ typedef struct {
     fmi3SetFloat64TYPE *set_float64;
     fmi3GetInt32TYPE *get_int32;
     fmi3SetInt32TYPE *set_int32;
+    fmi3GetFloat32TYPE *get_float32;
+    fmi3SetFloat32TYPE *set_float32;
+    fmi3GetInt8TYPE *get_int8;
+    fmi3SetInt8TYPE *set_int8;
+    fmi3GetUInt8TYPE *get_uint8;
+    fmi3SetUInt8TYPE *set_uint8;
+    fmi3GetInt16TYPE *get_int16;
+    fmi3SetInt16TYPE *set_int16;
+    fmi3GetUInt16TYPE *get_uint16;
+    fmi3SetUInt16TYPE *set_uint16;
+    fmi3GetUInt32TYPE *get_uint32;
+    fmi3SetUInt32TYPE *set_uint32;
+    fmi3GetInt64TYPE *get_int64;
+    fmi3SetInt64TYPE *set_int64;
+    fmi3GetUInt64TYPE *get_uint64;
+    fmi3SetUInt64TYPE *set_uint64;
+    fmi3GetBooleanTYPE *get_boolean;
+    fmi3SetBooleanTYPE *set_boolean;
+    fmi3GetStringTYPE *get_string;
+    fmi3SetStringTYPE *set_string;
     fmi3GetFMUStateTYPE *get_state;
     fmi3SetFMUStateTYPE *set_state;
     fmi3FreeFMUStateTYPE *free_state;
@@ -82,6 +108,15 @@ typedef struct {
     fmi3DoStepTYPE *do_step;
 } fmi3_api;
 
+/* The values this instance last set of one array variable: FMI 3 sets an array whole,
+   the engine's couplings set it element by element (fmu_set_element). */
+typedef struct array_shadow {
+    struct array_shadow *next;
+    uint32_t vr;
+    size_t size;
+    double values[];
+} array_shadow;
+
 struct fmu_t {
     void *library;
     void *instance;  /* fmi2Component / fmi3Instance */
@@ -96,6 +131,7 @@ struct fmu_t {
     fmi2CallbackFunctions callbacks2;  /* FMI 2 keeps a pointer to it */
     fmi2_api v2;
     fmi3_api v3;
+    array_shadow *shadows;
     char name[128];
     char message[MESSAGE_LEN];
 };
@@ -205,6 +241,10 @@ static void lookup2(fmu_t *f) {
     LOOKUP2(set_real, "SetReal");
     LOOKUP2(get_integer, "GetInteger");
     LOOKUP2(set_integer, "SetInteger");
+    LOOKUP2(get_boolean, "GetBoolean");
+    LOOKUP2(set_boolean, "SetBoolean");
+    LOOKUP2(get_string, "GetString");
+    LOOKUP2(set_string, "SetString");
     LOOKUP2(get_state, "GetFMUstate");
     LOOKUP2(set_state, "SetFMUstate");
     LOOKUP2(free_state, "FreeFMUstate");
@@ -235,6 +275,26 @@ static void lookup3(fmu_t *f) {
     LOOKUP3(set_float64, "SetFloat64");
     LOOKUP3(get_int32, "GetInt32");
     LOOKUP3(set_int32, "SetInt32");
+    LOOKUP3(get_float32, "GetFloat32");
+    LOOKUP3(set_float32, "SetFloat32");
+    LOOKUP3(get_int8, "GetInt8");
+    LOOKUP3(set_int8, "SetInt8");
+    LOOKUP3(get_uint8, "GetUInt8");
+    LOOKUP3(set_uint8, "SetUInt8");
+    LOOKUP3(get_int16, "GetInt16");
+    LOOKUP3(set_int16, "SetInt16");
+    LOOKUP3(get_uint16, "GetUInt16");
+    LOOKUP3(set_uint16, "SetUInt16");
+    LOOKUP3(get_uint32, "GetUInt32");
+    LOOKUP3(set_uint32, "SetUInt32");
+    LOOKUP3(get_int64, "GetInt64");
+    LOOKUP3(set_int64, "SetInt64");
+    LOOKUP3(get_uint64, "GetUInt64");
+    LOOKUP3(set_uint64, "SetUInt64");
+    LOOKUP3(get_boolean, "GetBoolean");
+    LOOKUP3(set_boolean, "SetBoolean");
+    LOOKUP3(get_string, "GetString");
+    LOOKUP3(set_string, "SetString");
     LOOKUP3(get_state, "GetFMUState");
     LOOKUP3(set_state, "SetFMUState");
     LOOKUP3(free_state, "FreeFMUState");
@@ -412,6 +472,11 @@ fmu_t *fmu_load(const fmu_options *o, char *err, size_t err_len) {
 void fmu_free(fmu_t *f) {
     if (f == NULL) return;
     if (f->initialized && !f->terminated) fmu_terminate(f);
+    while (f->shadows) {
+        array_shadow *next = f->shadows->next;
+        free(f->shadows);
+        f->shadows = next;
+    }
     if (f->fmi_version == 2) f->v2.free_instance(f->instance);
     else f->v3.free_instance(f->instance);
     free(f); /* the library stays loaded (load_library) */
@@ -510,6 +575,272 @@ int fmu_set_int32(fmu_t *f, const uint32_t *vr, size_t n, const int32_t *values)
     }
     REQUIRE(f, f->v3.set_int32, "SetInt32");
     return check(f, f->v3.set_int32(f->instance, vr, n, values, n), "SetInt32");
+}
+
+/* --- variables of every type, as doubles ----------------------------------------- */
+
+static const char *const type_names[ENG_N_TYPES] = {
+    "Float64", "Int32", "Float32", "Int8", "UInt8", "Int16", "UInt16", "UInt32", "Int64",
+    "UInt64", "Boolean", "Enumeration", "String"};
+
+const char *fmu_type_name(int type) {
+    return type >= 0 && type < ENG_N_TYPES ? type_names[type] : "an unknown type";
+}
+
+/* The whole numbers a double carries exactly: an Int64/UInt64 beyond is refused. */
+#define EXACT_LIMIT 9007199254740992.0 /* 2^53 */
+
+/* One FMI 3 get of any numeric type into a buffer of its C type, converted to double. */
+#define GET3(ctype, fn, name)                                                               \
+    do {                                                                                    \
+        ctype small[64], *buf;                                                              \
+        REQUIRE(f, f->v3.fn, name);                                                         \
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof(ctype));                    \
+        if (buf == NULL) { fail(f, "out of memory reading %zu values", n_values); return FMU_ERROR; } \
+        rc = check(f, f->v3.fn(f->instance, vr, n_vr, buf, n_values), name);                \
+        for (i = 0; rc == FMU_OK && i < n_values; i++) values[i] = (double)buf[i];          \
+        if (buf != small) free(buf);                                                        \
+    } while (0)
+
+/* Each value as the integer type [lo, hi] (rounded to the nearest integer), or a message. */
+static int to_integer(fmu_t *f, int type, uint32_t vr, double v, double lo, double hi, double *out) {
+    double r = round(v);
+    if (!(r >= lo && r <= hi)) {
+        fail(f, "value %.17g for variable (value reference %u) is outside the range of %s "
+                "[%.17g, %.17g]", v, vr, fmu_type_name(type), lo, hi);
+        return FMU_ERROR;
+    }
+    *out = r;
+    return FMU_OK;
+}
+
+/* One FMI 3 set of any numeric type: each value checked against the type's range. */
+#define SET3(ctype, fn, name, lo, hi)                                                       \
+    do {                                                                                    \
+        ctype small[64], *buf;                                                              \
+        REQUIRE(f, f->v3.fn, name);                                                         \
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof(ctype));                    \
+        if (buf == NULL) { fail(f, "out of memory setting %zu values", n_values); return FMU_ERROR; } \
+        for (i = 0; rc == FMU_OK && i < n_values; i++) {                                    \
+            double w = 0.0;                                                                 \
+            rc = to_integer(f, type, vr[n_vr == n_values ? i : 0], values[i], lo, hi, &w);  \
+            buf[i] = (ctype)w;                                                              \
+        }                                                                                   \
+        if (rc == FMU_OK) rc = check(f, f->v3.fn(f->instance, vr, n_vr, buf, n_values), name); \
+        if (buf != small) free(buf);                                                        \
+    } while (0)
+
+/* An Int64/UInt64 beyond 2^53 does not travel as a double: refused, never rounded (the
+   check is on the integer, before a conversion that would round it). */
+#define EXACT_BITS 53
+static int inexact(fmu_t *f, int type, uint32_t vr, const char *shown) {
+    fail(f, "%s variable (value reference %u) has the value %s, beyond 2^53: the engine "
+            "carries values as doubles and cannot pass it on exactly", fmu_type_name(type), vr,
+         shown);
+    return FMU_ERROR;
+}
+
+/* One FMI 3 get of a 64-bit integer type, each value checked to be exact as a double. */
+#define GET3_64(ctype, fn, name, beyond, format, cast)                                      \
+    do {                                                                                    \
+        ctype small[64], *buf;                                                              \
+        REQUIRE(f, f->v3.fn, name);                                                         \
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof(ctype));                    \
+        if (buf == NULL) { fail(f, "out of memory reading %zu values", n_values); return FMU_ERROR; } \
+        rc = check(f, f->v3.fn(f->instance, vr, n_vr, buf, n_values), name);                \
+        for (i = 0; rc == FMU_OK && i < n_values; i++) {                                    \
+            if (beyond) {                                                                   \
+                char shown[32];                                                             \
+                snprintf(shown, sizeof shown, format, cast buf[i]);                         \
+                rc = inexact(f, type, vr[n_vr == n_values ? i : 0], shown);                 \
+            }                                                                               \
+            values[i] = (double)buf[i];                                                     \
+        }                                                                                   \
+        if (buf != small) free(buf);                                                        \
+    } while (0)
+
+/* FMI 2's numbers are Real, Integer (Int32 and Enumeration) and Boolean, all scalars. */
+static int fmi2_can(fmu_t *f, int type, size_t n_vr, size_t n_values) {
+    if (n_vr != n_values) {
+        fail(f, "FMI 2 has no array variables");
+        return FMU_ERROR;
+    }
+    if (type == ENG_FLOAT64 || type == ENG_INT32 || type == ENG_BOOLEAN || type == ENG_ENUMERATION)
+        return FMU_OK;
+    fail(f, "FMI 2 has no %s variables", fmu_type_name(type));
+    return FMU_ERROR;
+}
+
+int fmu_get_typed(fmu_t *f, int type, const uint32_t *vr, size_t n_vr, double *values,
+                  size_t n_values) {
+    int rc = FMU_OK;
+    size_t i;
+    if (n_values == 0) return FMU_OK;
+    if (type == ENG_FLOAT64 && n_vr == n_values) return fmu_get_float64(f, vr, n_vr, values);
+    if (f->fmi_version == 2) {
+        int small[64], *buf;
+        if (fmi2_can(f, type, n_vr, n_values)) return FMU_ERROR;
+        if (type == ENG_BOOLEAN) REQUIRE(f, f->v2.get_boolean, "GetBoolean");
+        else REQUIRE(f, f->v2.get_integer, "GetInteger");
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof(int));
+        if (buf == NULL) { fail(f, "out of memory reading %zu values", n_values); return FMU_ERROR; }
+        rc = type == ENG_BOOLEAN
+                 ? check(f, f->v2.get_boolean(f->instance, vr, n_vr, buf), "GetBoolean")
+                 : check(f, f->v2.get_integer(f->instance, vr, n_vr, buf), "GetInteger");
+        for (i = 0; rc == FMU_OK && i < n_values; i++)
+            values[i] = type == ENG_BOOLEAN ? (buf[i] != 0) : (double)buf[i];
+        if (buf != small) free(buf);
+        return rc;
+    }
+    switch (type) {
+    case ENG_FLOAT64:
+        return check(f, f->v3.get_float64(f->instance, vr, n_vr, values, n_values), "GetFloat64");
+    case ENG_FLOAT32: GET3(fmi3Float32, get_float32, "GetFloat32"); break;
+    case ENG_INT8: GET3(fmi3Int8, get_int8, "GetInt8"); break;
+    case ENG_UINT8: GET3(fmi3UInt8, get_uint8, "GetUInt8"); break;
+    case ENG_INT16: GET3(fmi3Int16, get_int16, "GetInt16"); break;
+    case ENG_UINT16: GET3(fmi3UInt16, get_uint16, "GetUInt16"); break;
+    case ENG_INT32: GET3(fmi3Int32, get_int32, "GetInt32"); break;
+    case ENG_UINT32: GET3(fmi3UInt32, get_uint32, "GetUInt32"); break;
+    case ENG_INT64: case ENG_ENUMERATION:
+        GET3_64(fmi3Int64, get_int64, "GetInt64",
+                buf[i] > (1LL << EXACT_BITS) || buf[i] < -(1LL << EXACT_BITS), "%lld", (long long));
+        break;
+    case ENG_UINT64:
+        GET3_64(fmi3UInt64, get_uint64, "GetUInt64", buf[i] > (1ULL << EXACT_BITS), "%llu",
+                (unsigned long long));
+        break;
+    case ENG_BOOLEAN: GET3(fmi3Boolean, get_boolean, "GetBoolean"); break;
+    default:
+        fail(f, "cannot get %s values as numbers", fmu_type_name(type));
+        return FMU_ERROR;
+    }
+    return rc;
+}
+
+int fmu_set_typed(fmu_t *f, int type, const uint32_t *vr, size_t n_vr, const double *values,
+                  size_t n_values) {
+    int rc = FMU_OK;
+    size_t i;
+    if (n_values == 0) return FMU_OK;
+    if (type == ENG_FLOAT64 && n_vr == n_values) return fmu_set_float64(f, vr, n_vr, values);
+    if (f->fmi_version == 2) {
+        int small[64], *buf;
+        if (fmi2_can(f, type, n_vr, n_values)) return FMU_ERROR;
+        if (type == ENG_BOOLEAN) REQUIRE(f, f->v2.set_boolean, "SetBoolean");
+        else REQUIRE(f, f->v2.set_integer, "SetInteger");
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof(int));
+        if (buf == NULL) { fail(f, "out of memory setting %zu values", n_values); return FMU_ERROR; }
+        for (i = 0; rc == FMU_OK && i < n_values; i++) {
+            double w = values[i] != 0;
+            if (type != ENG_BOOLEAN)
+                rc = to_integer(f, type, vr[i], values[i], -2147483648.0, 2147483647.0, &w);
+            buf[i] = (int)w;
+        }
+        if (rc == FMU_OK)
+            rc = type == ENG_BOOLEAN
+                     ? check(f, f->v2.set_boolean(f->instance, vr, n_vr, buf), "SetBoolean")
+                     : check(f, f->v2.set_integer(f->instance, vr, n_vr, buf), "SetInteger");
+        if (buf != small) free(buf);
+        return rc;
+    }
+    switch (type) {
+    case ENG_FLOAT64:
+        return check(f, f->v3.set_float64(f->instance, vr, n_vr, values, n_values), "SetFloat64");
+    case ENG_FLOAT32: {
+        fmi3Float32 small[64], *buf;
+        REQUIRE(f, f->v3.set_float32, "SetFloat32");
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof *buf);
+        if (buf == NULL) { fail(f, "out of memory setting %zu values", n_values); return FMU_ERROR; }
+        for (i = 0; i < n_values; i++) buf[i] = (fmi3Float32)values[i];
+        rc = check(f, f->v3.set_float32(f->instance, vr, n_vr, buf, n_values), "SetFloat32");
+        if (buf != small) free(buf);
+        return rc;
+    }
+    case ENG_INT8: SET3(fmi3Int8, set_int8, "SetInt8", -128.0, 127.0); break;
+    case ENG_UINT8: SET3(fmi3UInt8, set_uint8, "SetUInt8", 0.0, 255.0); break;
+    case ENG_INT16: SET3(fmi3Int16, set_int16, "SetInt16", -32768.0, 32767.0); break;
+    case ENG_UINT16: SET3(fmi3UInt16, set_uint16, "SetUInt16", 0.0, 65535.0); break;
+    case ENG_INT32: SET3(fmi3Int32, set_int32, "SetInt32", -2147483648.0, 2147483647.0); break;
+    case ENG_UINT32: SET3(fmi3UInt32, set_uint32, "SetUInt32", 0.0, 4294967295.0); break;
+    case ENG_INT64: case ENG_ENUMERATION:
+        SET3(fmi3Int64, set_int64, "SetInt64", -EXACT_LIMIT, EXACT_LIMIT); break;
+    case ENG_UINT64: SET3(fmi3UInt64, set_uint64, "SetUInt64", 0.0, EXACT_LIMIT); break;
+    case ENG_BOOLEAN: {
+        fmi3Boolean small[64], *buf;
+        REQUIRE(f, f->v3.set_boolean, "SetBoolean");
+        buf = n_values <= 64 ? small : malloc(n_values * sizeof *buf);
+        if (buf == NULL) { fail(f, "out of memory setting %zu values", n_values); return FMU_ERROR; }
+        for (i = 0; i < n_values; i++) buf[i] = values[i] != 0;
+        rc = check(f, f->v3.set_boolean(f->instance, vr, n_vr, buf, n_values), "SetBoolean");
+        if (buf != small) free(buf);
+        return rc;
+    }
+    default:
+        fail(f, "cannot set %s values from numbers", fmu_type_name(type));
+        return FMU_ERROR;
+    }
+    return rc;
+}
+
+int fmu_set_element(fmu_t *f, int type, uint32_t vr, size_t size, size_t element, double value) {
+    array_shadow *a;
+    if (element >= size) {
+        fail(f, "element %zu of an array of %zu (value reference %u) does not exist", element + 1,
+             size, vr);
+        return FMU_ERROR;
+    }
+    for (a = f->shadows; a && !(a->vr == vr && a->size == size); a = a->next) {}
+    if (a == NULL) {
+        /* the other elements start at 0 until set: the engine sets every element of an
+           array it sets (start values or couplings of the whole array) */
+        a = calloc(1, sizeof *a + size * sizeof(double));
+        if (a == NULL) { fail(f, "out of memory for an array of %zu", size); return FMU_ERROR; }
+        a->vr = vr;
+        a->size = size;
+        a->next = f->shadows;
+        f->shadows = a;
+    }
+    a->values[element] = value;
+    return fmu_set_typed(f, type, &vr, 1, a->values, size);
+}
+
+int fmu_get_string(fmu_t *f, uint32_t vr, const char **value) {
+    *value = NULL;
+    if (f->fmi_version == 2) {
+        fmi2String s = NULL;
+        REQUIRE(f, f->v2.get_string, "GetString");
+        if (check(f, f->v2.get_string(f->instance, &vr, 1, &s), "GetString")) return FMU_ERROR;
+        *value = s ? s : "";
+        return FMU_OK;
+    } else {
+        fmi3String s = NULL;
+        REQUIRE(f, f->v3.get_string, "GetString");
+        if (check(f, f->v3.get_string(f->instance, &vr, 1, &s, 1), "GetString")) return FMU_ERROR;
+        *value = s ? s : "";
+        return FMU_OK;
+    }
+}
+
+int fmu_set_strings(fmu_t *f, const uint32_t *vr, size_t n, const char *const *values) {
+    if (n == 0) return FMU_OK;
+    if (f->fmi_version == 2) {
+        REQUIRE(f, f->v2.set_string, "SetString");
+        return check(f, f->v2.set_string(f->instance, vr, n, (const fmi2String *)values),
+                     "SetString");
+    }
+    REQUIRE(f, f->v3.set_string, "SetString");
+    return check(f, f->v3.set_string(f->instance, vr, n, (const fmi3String *)values, n),
+                 "SetString");
+}
+
+void fmu_complain(fmu_t *f, const char *format, ...) {
+    char text[MESSAGE_LEN];
+    va_list args;
+    va_start(args, format);
+    vsnprintf(text, sizeof text, format, args);
+    va_end(args);
+    fail(f, "%s", text);
 }
 
 /* --- Model Exchange ---------------------------------------------------------------- */

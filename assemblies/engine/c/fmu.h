@@ -101,6 +101,28 @@ int fmu_set_float64(fmu_t *fmu, const uint32_t *vr, size_t n, const double *valu
 int fmu_get_int32(fmu_t *fmu, const uint32_t *vr, size_t n, int32_t *values);
 int fmu_set_int32(fmu_t *fmu, const uint32_t *vr, size_t n, const int32_t *values);
 
+/* Values of any numeric type of engine.h (ENG_FLOAT64 ... ENG_ENUMERATION: `type`),
+   through that type's FMI call, as doubles: n_vr value references holding n_values
+   values (an FMI 3 array counts all its elements, row-major). A set rounds to the
+   nearest integer for an integer type and fails for a value outside the type's range;
+   a get of an Int64/UInt64/Enumeration beyond 2^53 fails (engine.h). */
+int fmu_get_typed(fmu_t *fmu, int type, const uint32_t *vr, size_t n_vr, double *values,
+                  size_t n_values);
+int fmu_set_typed(fmu_t *fmu, int type, const uint32_t *vr, size_t n_vr, const double *values,
+                  size_t n_values);
+/* Element `element` of the array `vr` of `size` elements: the whole array is set, its
+   other elements at the values this instance last set (0 before any). */
+int fmu_set_element(fmu_t *fmu, int type, uint32_t vr, size_t size, size_t element,
+                    double value);
+/* One String; *value is the FMU's, valid until its next call. */
+int fmu_get_string(fmu_t *fmu, uint32_t vr, const char **value);
+int fmu_set_strings(fmu_t *fmu, const uint32_t *vr, size_t n, const char *const *values);
+/* "Float64", "Int8"...: engine.h's type codes by their FMI names */
+const char *fmu_type_name(int type);
+/* Makes `format` the instance's message (fmu_message), unless an error of the FMU's own
+   is kept: for failures the caller finds in values the FMU accepted. */
+void fmu_complain(fmu_t *fmu, const char *format, ...);
+
 /* --- Model Exchange -------------------------------------------------------------- */
 
 typedef struct {

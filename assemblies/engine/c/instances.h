@@ -16,9 +16,10 @@ fmu_t *eng_instantiate(const eng_instance_spec *spec, fmu_kind kind,
                        fmu_intermediate_fn intermediate, void *intermediate_ctx,
                        int early_return_allowed, char *err, size_t err_len);
 
-/* One value of either type as a double. FMU_OK or the fmu.h error code. */
-int eng_get_value(fmu_t *fmu, uint32_t vr, int is_int, double *value);
-int eng_set_value(fmu_t *fmu, uint32_t vr, int is_int, double value);
+/* One value of any type as a double (a String as its index in the thread's string
+   table, an array element through its whole array). FMU_OK or the fmu.h error code. */
+int eng_get_value(fmu_t *fmu, const eng_variable *v, double *value);
+int eng_set_value(fmu_t *fmu, const eng_variable *v, double value);
 
 /* Evaluates the couplings in order: target = gain * source. values[i] (may be NULL)
    receives coupling i's value. On failure *failed is the index of the instance whose

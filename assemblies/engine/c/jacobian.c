@@ -62,7 +62,7 @@ eng_jacobian *eng_jacobian_plan(const eng_me_spec *s, const int *x_off)
     coupled = calloc((size_t)J->n, sizeof(int));
     if (!J->parts || !J->from || !J->to || !coupled) goto refuse;
     for (k = 0; k < nc; k++)
-        if (!s->couplings[k].source.is_int) {
+        if (ENG_PLAIN(&s->couplings[k].source)) {
             coupled[s->couplings[k].source.instance] = 1;
             coupled[s->couplings[k].target.instance] = 1;
         }
@@ -86,7 +86,8 @@ eng_jacobian *eng_jacobian_plan(const eng_me_spec *s, const int *x_off)
     }
     for (k = 0; k < nc; k++) {
         const eng_coupling *c = &s->couplings[k];
-        if (c->source.is_int || c->target.is_int) {
+        /* discrete, Float32 and array couplings carry nothing here (jacobian.h) */
+        if (!ENG_PLAIN(&c->source) || !ENG_PLAIN(&c->target)) {
             J->from[k] = J->to[k] = -1;
             continue;
         }

@@ -13,7 +13,9 @@
  * coupling passes an output's change on, times its gain, to the input it sets, which
  * moves that instance's derivatives and outputs in turn. Passes repeat until no coupled
  * input changes (a loop-free chain settles within as many passes as there are
- * instances); Int32 couplings are piecewise constant and carry nothing.
+ * instances); Int32 couplings are piecewise constant and carry nothing; nor do
+ * the other non-Float64 and array couplings (an FMU with such couplings should not
+ * offer directional derivatives to this run: assemblies/engine/binding.py).
  */
 #ifndef MECHFMU_ENGINE_JACOBIAN_H
 #define MECHFMU_ENGINE_JACOBIAN_H

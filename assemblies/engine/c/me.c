@@ -136,8 +136,8 @@ static int couple(me_master *M, const coupling_plan *P, double t)
         int end = P->segment_end[k], target = -1, n_pending = 0;
         for (p = k; p <= end; p = P->run_end[p] + 1) {
             const eng_variable *source = &c[P->live[p]].source;
-            int rc = source->is_int
-                         ? eng_get_value(M->fmus[source->instance], source->vr, 1, &M->read[p])
+            int rc = !ENG_PLAIN(source)
+                         ? eng_get_value(M->fmus[source->instance], source, &M->read[p])
                          : fmu_get_float64(M->fmus[source->instance], P->source_vr + p,
                                            (size_t)(P->run_end[p] - p + 1), M->read + p);
             if (rc) return failed(M, source->instance, "reading a coupled output", t);
@@ -150,8 +150,8 @@ static int couple(me_master *M, const coupling_plan *P, double t)
             if (M->sent_valid && v == M->sent[j]) continue;
             if (c[j].target.instance != target && flush(M, target, &n_pending, t)) return -1;
             target = c[j].target.instance;
-            if (c[j].target.is_int) {
-                if (eng_set_value(M->fmus[target], c[j].target.vr, 1, v))
+            if (!ENG_PLAIN(&c[j].target)) {
+                if (eng_set_value(M->fmus[target], &c[j].target, v))
                     return failed(M, target, "setting a coupled input", t);
             } else {
                 M->pending_vr[n_pending] = c[j].target.vr;
@@ -486,7 +486,7 @@ static int write_row(me_master *M, double t, const double *x)
         const eng_variable *v = &s->columns[c];
         if (M->rows_from_states)
             row[c] = x[M->x_off[v->instance] + s->column_state[c]];
-        else if (eng_get_value(M->fmus[v->instance], v->vr, v->is_int, &row[c]))
+        else if (eng_get_value(M->fmus[v->instance], v, &row[c]))
             return failed(M, v->instance, "reading the recorded outputs", t);
     }
     M->k_out++;
@@ -578,8 +578,7 @@ static int record_event(me_master *M, int g, double t)
     int k;
     M->row[0] = t;
     for (k = 0; k < group->n_outputs; k++)
-        if (eng_get_value(M->fmus[group->instance], group->output_vr[k], group->output_is_int[k],
-                          &M->row[1 + k]))
+        if (eng_get_value(M->fmus[group->instance], &group->outputs[k], &M->row[1 + k]))
             return failed(M, group->instance, "reading the outputs at an event", t);
     if (eng_table_append(&M->run->tables[g], M->row))
         return fail(M, "out of memory recording events");
@@ -967,7 +966,7 @@ static int plan_couplings(me_master *M, coupling_plan *P, const int *needed)
         if (i + 1 == n) continue;
         /* one read for a run of one source's Float64 outputs within one segment */
         next = &live(M, P, i + 1)->source;
-        if (P->segment_end[i + 1] == P->segment_end[i] && !source->is_int && !next->is_int &&
+        if (P->segment_end[i + 1] == P->segment_end[i] && ENG_PLAIN(source) && ENG_PLAIN(next) &&
             next->instance == source->instance)
             P->run_end[i] = P->run_end[i + 1];
     }

@@ -24,13 +24,13 @@ static void unchecked(eng_restore_check *r, const char *fmt, ...)
 
 /* Reads the compared variables into v; with `skip`, leaves out (skip[j] = 1) those
    whose read fails, else a failed read is an error. 0 on success. */
-static int read_all(fmu_t *f, int n, const uint32_t *vr, const int *is_int, int *skip,
+static int read_all(fmu_t *f, int n, const eng_variable *vars, int *skip,
                     int first, double *v)
 {
     int j;
     for (j = 0; j < n; j++) {
         if (skip[j]) continue;
-        if (eng_get_value(f, vr[j], is_int[j], &v[j]) != FMU_OK) {
+        if (eng_get_value(f, &vars[j], &v[j]) != FMU_OK) {
             if (!first) return -1;
             skip[j] = 1;
         }
@@ -56,7 +56,7 @@ static int step_once(fmu_t *f, double h)
 }
 
 void eng_check_restore(const eng_instance_spec *spec, double step, double tolerance, int n,
-                       const uint32_t *vr, const int *is_int, eng_restore_check *result)
+                       const eng_variable *vars, eng_restore_check *result)
 {
     char err[512];
     fmu_t *f = NULL;
@@ -88,18 +88,18 @@ void eng_check_restore(const eng_instance_spec *spec, double step, double tolera
         unchecked(result, "initialization failed: %s", fmu_message(f));
         goto done;
     }
-    if (read_all(f, n, vr, is_int, skip, 1, start)) goto read_failed;
+    if (read_all(f, n, vars, skip, 1, start)) goto read_failed;
     if (fmu_get_state(f, &saved) != FMU_OK) {
         unchecked(result, "getFMUState failed: %s", fmu_message(f));
         goto done;
     }
     if (step_once(f, step)) goto step_failed;
-    if (read_all(f, n, vr, is_int, skip, 0, first)) goto read_failed;
+    if (read_all(f, n, vars, skip, 0, first)) goto read_failed;
     if (fmu_set_state(f, saved) != FMU_OK) {
         unchecked(result, "setFMUState failed: %s", fmu_message(f));
         goto done;
     }
-    if (read_all(f, n, vr, is_int, skip, 0, again)) goto read_failed;
+    if (read_all(f, n, vars, skip, 0, again)) goto read_failed;
     j = first_difference(n, skip, start, again);
     if (j >= 0) {
         result->verdict = ENG_RESTORE_INEXACT;
@@ -109,7 +109,7 @@ void eng_check_restore(const eng_instance_spec *spec, double step, double tolera
         goto done;
     }
     if (step_once(f, step)) goto step_failed;
-    if (read_all(f, n, vr, is_int, skip, 0, again)) goto read_failed;
+    if (read_all(f, n, vars, skip, 0, again)) goto read_failed;
     j = first_difference(n, skip, first, again);
     if (j >= 0) {
         result->verdict = ENG_RESTORE_INEXACT;

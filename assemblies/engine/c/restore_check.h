@@ -31,10 +31,10 @@ typedef struct {
 } eng_restore_check;
 
 /* Checks `spec`'s Co-Simulation restore over one doStep of `step` from 0 (the solver
-   tolerance `tolerance`, 0: the FMU's own), comparing the n variables (vr, is_int);
+   tolerance `tolerance`, 0: the FMU's own), comparing the n variables (any type; their
+   `instance` is not read);
    a variable whose first read fails is left out (a type the engine does not read). */
 ENG_API void eng_check_restore(const eng_instance_spec *spec, double step, double tolerance,
-                               int n, const uint32_t *vr, const int *is_int,
-                               eng_restore_check *result);
+                               int n, const eng_variable *vars, eng_restore_check *result);
 
 #endif

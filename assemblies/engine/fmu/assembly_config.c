@@ -78,7 +78,7 @@ static void variable(reader *r, eng_variable *v, int n_instances)
 {
     v->instance = (int)integer(r, 0, n_instances - 1);
     v->vr = (uint32_t)integer(r, 0, 0xffffffffL);
-    v->is_int = (int)integer(r, 0, 1);
+    v->type = (int)integer(r, ENG_FLOAT64, ENG_INT32); /* what an assembly FMU passes on */
 }
 
 static void instance(reader *r, asm_config *cfg, int i, const char *resources_dir)

@@ -346,7 +346,7 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
             continue;
         }
         if (!(p = port(A, fn, vr[k]))) return MF_ERROR;
-        if (p->member.is_int != ints)
+        if ((p->member.type == ENG_INT32) != ints)
             return ERROR(A, "%s: value reference %u is not of type %s", fn, vr[k],
                          ints ? A->host.int_type : A->host.float_type);
         if (writing && p->kind != ASM_INPUT)
@@ -368,11 +368,11 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
         member = member_of(A, p->member.instance);
         if (writing) {
             v = ints ? (double)*i : *f;
-            rc = eng_set_value(member, p->member.vr, p->member.is_int, v);
+            rc = eng_set_value(member, &p->member, v);
             /* the integrator must not carry a switched mode across the new value */
             if (rc == FMU_OK && A->me && A->phase == STEPPING) eng_me_inputs_changed(A->me);
         } else {
-            rc = eng_get_value(member, p->member.vr, p->member.is_int, &v);
+            rc = eng_get_value(member, &p->member, &v);
             if (rc == FMU_OK) {
                 if (ints) *i = (int32_t)v;
                 else *f = v;
