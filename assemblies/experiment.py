@@ -8,6 +8,7 @@ import numpy as np
 from components.errors import check_tolerance, positive_finite
 
 from .assembly import AssemblyError
+from .limits import check_output_rows
 
 
 def check_experiment(stop_time: float, step: float, tolerance: float,
@@ -16,6 +17,7 @@ def check_experiment(stop_time: float, step: float, tolerance: float,
     positive_finite(stop_time, "stop time", AssemblyError)
     positive_finite(step, step_name, AssemblyError)
     check_tolerance(tolerance, "tolerance", AssemblyError)
+    check_output_rows(stop_time, step, step_name)  # before any master allocates them
 
 
 def output_times(stop_time: float, step: float) -> np.ndarray:
