@@ -6,6 +6,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from components.errors import writable_folder
+
 from .assembly import AssemblyError
 from .engine.cosim import DEFAULT_SCHEME as DEFAULT_COSIM
 from .foreign import check_mode
@@ -171,6 +173,8 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     if params is not None and not isinstance(params, dict):
         raise AssemblyError(f"params must be a dict of 'INSTANCE.NAME': value, e.g. "
                             f"{{'block.m': 2}}, not {type(params).__name__} {params!r}")
+    if out is not None:  # a folder that cannot be written is found before the run
+        out = writable_folder(out, "out", AssemblyError)
     asm = sc.build()
     for key, value in (params or {}).items():
         asm.set(key, value)
@@ -201,8 +205,6 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     run = SceneRun(name, result, sc.figures(result, asm))
     result.figures = run.figures
     if out is not None:
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
         result.to_csv(out / f"{name}.csv")
         title, png = f"{name}: {sc.description}", out / f"{name}.png"
         if sc.picture is not None:
