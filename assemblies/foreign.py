@@ -65,6 +65,9 @@ class FMU(Block):
 
     def __init__(self, path: str | os.PathLike, name: str | None = None,
                  units: dict[str, str] | None = None, **values):
+        if not isinstance(path, (str, os.PathLike)):
+            raise FmuError(f"FMU: path must be the path of an .fmu file (str or Path), not "
+                           f"{type(path).__name__} {path!r}")
         self.path = Path(path).expanduser().resolve()
         md = _read_model_description(self.path)
         self.model_description = md
@@ -114,15 +117,25 @@ class FMU(Block):
                                   optional=v.causality == "input" and has_start))
             if not has_start:
                 continue
-            start = float(v.start)
+            start = self._number(v, "start")
             if v.causality in ("parameter", "input") and v.variability != "constant":
                 parameters.append(Parameter(
                     v.name, start, unit, description,
-                    min=float(v.min) if v.min is not None else -math.inf,
-                    max=float(v.max) if v.max is not None else math.inf))
+                    min=self._number(v, "min") if v.min is not None else -math.inf,
+                    max=self._number(v, "max") if v.max is not None else math.inf))
             elif v.name in derivative_of and v.initial in ("exact", "approx"):
                 states.append(State(v.name, start, unit, description))
         return tuple(ports), tuple(parameters), tuple(states)
+
+    def _number(self, v, attribute: str) -> float:
+        """A numeric attribute of a model variable, or FmuError naming it: the file is
+        input, and start="abc" is a mistake of its exporter, not a crash of ours."""
+        text = getattr(v, attribute)
+        try:
+            return float(text)
+        except (TypeError, ValueError):
+            raise FmuError(f"{self._file()}: variable {v.name} has {attribute}={str(text)!r}, "
+                           f"which is not a number; a {v.type} {attribute} must be one") from None
 
     # --- Block's interface -------------------------------------------------------------
     def _file(self) -> str:
@@ -205,8 +218,10 @@ def _read_model_description(path: Path):
         raise FmuError(f"'{path}' is not an FMU: an FMU is a zip archive with a "
                        "modelDescription.xml")
     with zipfile.ZipFile(path) as zf:
-        if "modelDescription.xml" not in zf.namelist():
-            raise FmuError(f"'{path}' is not an FMU: the archive has no modelDescription.xml")
+        names = zf.namelist()
+    if "modelDescription.xml" not in names:
+        raise FmuError(f"'{path}' is not an FMU: the archive has no modelDescription.xml")
+    _check_entries(path, names)
     try:
         # not validated: many tools write descriptions fmpy's validation rejects (CasADi's
         # export lacks UnitDefinitions); what the engine needs is read all the same
@@ -219,7 +234,69 @@ def _read_model_description(path: Path):
     if md.modelExchange is None and md.coSimulation is None:
         raise FmuError(f"'{path}' has neither a Model Exchange nor a Co-Simulation interface "
                        "(FMI 3 Scheduled Execution is not supported)")
+    _check_states(path, md)
     return md
+
+
+def _check_entries(path: Path, names: list[str]) -> None:
+    """Every file of the archive inside its folder: an absolute name or one that climbs
+    out with '..' would be written anywhere when the FMU is extracted."""
+    for name in names:
+        parts = name.replace("\\", "/").split("/")
+        if name.startswith(("/", "\\")) or (len(name) > 1 and name[1] == ":") or ".." in parts:
+            raise FmuError(f"'{path}' is not a usable FMU: its archive entry '{name}' lies "
+                           "outside the folder it is extracted to (an absolute path or '..'); "
+                           "an FMU's files are relative paths inside it")
+
+
+def _elements(md, v) -> int:
+    """How many values variable `v` holds: 1 for a scalar, the product of its FMI 3
+    dimensions (fixed sizes, or the start values of the structural parameters named)."""
+    count = 1
+    by_vr = None
+    for d in getattr(v, "dimensions", None) or []:
+        size = d.start
+        if size is None and d.valueReference is not None:
+            if by_vr is None:
+                by_vr = {u.valueReference: u for u in md.modelVariables}
+            size = getattr(by_vr.get(d.valueReference), "start", None)
+        try:
+            count *= int(size)
+        except (TypeError, ValueError):
+            return -1  # a size we cannot read: not a scalar
+    return count
+
+
+def _check_states(path: Path, md) -> None:
+    """The continuous states the engine will integrate are the ones the file declares.
+
+    The engine gives the FMU as many states as ModelStructure lists derivatives. What a
+    file can show is checked: every variable declared the derivative of a state is among
+    those derivatives (FMI 2 section 2.2.8, FMI 3 section 2.4.8 require it), and every
+    state is a scalar (an FMI 3 array state holds several values under one listing; the
+    engine counts and couples scalars). A binary with states its file names nowhere
+    cannot be seen from outside: FMI has no call that reports the count."""
+    listed = [u.variable for u in md.derivatives]
+    declared = [v for v in md.modelVariables if v.derivative is not None]
+    missing = [v.name for v in declared if v not in listed]
+    if missing:
+        raise FmuError(
+            f"'{path}': ModelStructure lists {len(listed)} state derivative(s), but "
+            f"{len(declared)} variables are declared derivatives of states; not listed: "
+            f"{', '.join(missing)}; the engine would not integrate their states (the FMI "
+            "standard lists every one)")
+    for v in listed:
+        if v.derivative is None:
+            raise FmuError(f"'{path}': ModelStructure lists {v.name} as a state derivative, "
+                           "but the variable names no state it is the derivative of (its "
+                           "derivative attribute is missing)")
+        for var in (v, v.derivative):
+            n = _elements(md, var)
+            if n != 1:
+                raise FmuError(
+                    f"'{path}': continuous state or derivative {var.name} is an array of "
+                    f"{n if n > 0 else 'unknown size'} values (FMI 3 counts states per "
+                    "element); the engine integrates scalar states only")
 
 
 def _interfaces_with_binaries(path: Path, md) -> tuple[str, ...]:
