@@ -333,7 +333,8 @@ def _parser() -> argparse.ArgumentParser:
     w.add_argument("--seed", type=int, help="seed of the --random design (repeatable studies)")
     where = w.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
-                       help="worker processes of a local Dask cluster (default: one per core)")
+                       help="worker processes of a local Dask cluster (default: one per core; at "
+                            "most two per core; 0 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="a running Dask scheduler, e.g. tcp://127.0.0.1:8786")
     w.add_argument("--output", action="append", metavar="NAME@T",
