@@ -99,7 +99,7 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
     s = {**DEFAULT_SCHEME, "loop_tolerance": 1e-10, "max_loop_iterations": 20, "newton": True,
          **settings}
     s.setdefault("event_sync", bool(s["adaptive"]))
-    check_experiment(stop_time, step, tolerance)
+    check_experiment(stop_time, step, tolerance, rows=False)  # the importer keeps the rows
     check_cosim_settings(scheme, s["extrapolation"], s["adaptive"], s["tol"])
 
     assembly.signals_from_outside = True  # open signal inputs become the FMU's inputs

@@ -148,7 +148,8 @@ def design(params: dict, random: int | None = None, seed: int | None = None) -> 
         check_sweep_runs(math.prod(len(v) for v in axes.values()),
                          "the grid of " + " x ".join(f"{len(v)} {n}" for n, v in axes.items()))
         return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
-    if not (isinstance(random, (int, np.integer)) and random >= 1):
+    if not (isinstance(random, (int, np.integer)) and not isinstance(random, bool)
+            and random >= 1):
         raise SweepError(f"--random must be a whole number of runs >= 1, not {random!r}")
     check_sweep_runs(random, f"--random {random}")
     from scipy.stats import qmc
@@ -299,7 +300,7 @@ def _check_names(sc: Scene, names, outputs) -> None:
 
 
 def _check_settings(sc: Scene, stop_time, step, tolerance, mode, engine, outputs,
-                    workers) -> None:
+                    workers, chunk) -> None:
     """What every run of the study shares, checked once before the first: a bad setting
     is one line now, not the same failed row for every run."""
     from .experiment import check_experiment  # the masters' own checks, and limits
@@ -317,6 +318,9 @@ def _check_settings(sc: Scene, stop_time, step, tolerance, mode, engine, outputs
                              f"goes from 0 to the stop time {stop:g} s")
     if workers not in (None, 0):
         check_workers(workers)
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer))
+                              or chunk < 1):
+        raise SweepError(f"chunk must be a whole number of runs per task >= 1, not {chunk!r}")
 
 
 def sweep(target, params: dict, *, random: int | None = None, seed: int | None = None,
@@ -345,7 +349,7 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     """
     sc = as_scene(target, stop_time, step, tolerance)
     outputs = [o if isinstance(o, Output) else parse_output(o) for o in outputs]
-    _check_settings(sc, stop_time, step, tolerance, mode, engine, outputs, workers)
+    _check_settings(sc, stop_time, step, tolerance, mode, engine, outputs, workers, chunk)
     if out is not None:  # before the study, not after it
         out = writable_folder(out, "out", SweepError)
     runs = design(params, random, seed)

@@ -130,3 +130,23 @@ def test_a_plot_of_no_such_column_leaves_no_files_behind(capsys, tmp_path):
                             "--plot", "nosuch", "--out", str(tmp_path)],
                    ["cannot plot 'nosuch'", "columns: run, block.m"])
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(chunk=-1), ["chunk must be a whole number of runs per task >= 1", "-1"]),
+    (dict(chunk=0), ["chunk must be", "0"]),
+    (dict(random=True), ["--random must be a whole number of runs >= 1", "True"]),
+], ids=["chunk -1", "chunk 0", "random True"])
+def test_a_study_with_a_chunk_or_design_size_that_is_no_count_is_refused(kwargs, words):
+    """Before: chunk=-1 made no tasks (a study of no rows), chunk=0 was read as 'guided'
+    and random=True as one run."""
+    quick_refusal(lambda: sweep("stick_slip", {"block.m": "1:2"}, workers=0, progress=False,
+                                **kwargs), *words)
+
+
+def test_an_exported_fmu_may_default_to_a_long_experiment(tmp_path):
+    """The row limit is the run's table: an exported FMU's default experiment keeps none."""
+    from assemblies import export_fmu
+    path = export_fmu(STICK_SLIP(), tmp_path / "long.fmu", stop_time=1e9, step=1e-3)
+    assert 'stopTime="1000000000' in __import__("zipfile").ZipFile(path).read(
+        "modelDescription.xml").decode()
