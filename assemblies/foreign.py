@@ -249,36 +249,22 @@ def _check_entries(path: Path, names: list[str]) -> None:
                            "an FMU's files are relative paths inside it")
 
 
-def _elements(md, v) -> int:
-    """How many values variable `v` holds: 1 for a scalar, the product of its FMI 3
-    dimensions (fixed sizes, or the start values of the structural parameters named)."""
-    count = 1
-    by_vr = None
-    for d in getattr(v, "dimensions", None) or []:
-        size = d.start
-        if size is None and d.valueReference is not None:
-            if by_vr is None:
-                by_vr = {u.valueReference: u for u in md.modelVariables}
-            size = getattr(by_vr.get(d.valueReference), "start", None)
-        try:
-            count *= int(size)
-        except (TypeError, ValueError):
-            return -1  # a size we cannot read: not a scalar
-    return count
-
-
 def _check_states(path: Path, md) -> None:
     """The continuous states the engine will integrate are the ones the file declares.
 
-    The engine gives the FMU as many states as ModelStructure lists derivatives. What a
-    file can show is checked: every variable declared the derivative of a state is among
-    those derivatives (FMI 2 section 2.2.8, FMI 3 section 2.4.8 require it), and every
-    state is a scalar (an FMI 3 array state holds several values under one listing; the
-    engine counts and couples scalars). A binary with states its file names nowhere
-    cannot be seen from outside: FMI has no call that reports the count."""
+    The engine gives the FMU as many states as ModelStructure lists derivatives (an
+    FMI 3 array counting per element). What a file can show is checked: every variable
+    declared the derivative of a state is among those listed (FMI 2 and FMI 3 require
+    it; an alias shares the listed one's value reference), and every one listed names
+    its state. A binary with states its file names nowhere cannot be seen from outside:
+    FMI has no call that reports the count, and asking for more states than declared is
+    not allowed."""
     listed = [u.variable for u in md.derivatives]
     declared = [v for v in md.modelVariables if v.derivative is not None]
-    missing = [v.name for v in declared if v not in listed]
+    # by value reference: an alias of a listed derivative (FMI 2 aliases share one) is
+    # the same value, listed once
+    refs = {(v.type, v.valueReference) for v in listed}
+    missing = [v.name for v in declared if (v.type, v.valueReference) not in refs]
     if missing:
         raise FmuError(
             f"'{path}': ModelStructure lists {len(listed)} state derivative(s), but "
@@ -290,13 +276,6 @@ def _check_states(path: Path, md) -> None:
             raise FmuError(f"'{path}': ModelStructure lists {v.name} as a state derivative, "
                            "but the variable names no state it is the derivative of (its "
                            "derivative attribute is missing)")
-        for var in (v, v.derivative):
-            n = _elements(md, var)
-            if n != 1:
-                raise FmuError(
-                    f"'{path}': continuous state or derivative {var.name} is an array of "
-                    f"{n if n > 0 else 'unknown size'} values (FMI 3 counts states per "
-                    "element); the engine integrates scalar states only")
 
 
 def _interfaces_with_binaries(path: Path, md) -> tuple[str, ...]:

@@ -9,8 +9,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from assemblies import FMU, FmuError, export_fmu, run_scene, scene
-from assemblies.assembly import AssemblyError
+from assemblies import FMU, export_fmu, run_scene, scene
 from components import AssumedModesBeam, SpringBlock
 from components.errors import MechfmuError
 
@@ -142,35 +141,9 @@ def test_a_state_whose_derivative_the_structure_leaves_out_is_refused(tmp_path):
             "not listed: der(v)")
 
 
-FMI3 = """<?xml version="1.0" encoding="UTF-8"?>
-<fmiModelDescription fmiVersion="3.0" modelName="hpy3" instantiationToken="{{00000000-0000-4000-8000-000000000003}}">
-  <ModelExchange modelIdentifier="hpy3"/>
-  <ModelVariables>
-    <UInt64 name="n" valueReference="9" causality="structuralParameter" variability="fixed" start="3"/>
-    <Float64 name="x" valueReference="1" causality="local" variability="continuous" initial="exact" start="0 0 0">
-      <Dimension {size}/>
-    </Float64>
-    <Float64 name="der(x)" valueReference="2" causality="local" variability="continuous" derivative="1">
-      <Dimension {size}/>
-    </Float64>
-  </ModelVariables>
-  <ModelStructure>
-    <ContinuousStateDerivative valueReference="2"/>
-  </ModelStructure>
-</fmiModelDescription>
-"""
-
-
-@pytest.mark.parametrize("size", ['start="3"', 'valueReference="9"'], ids=["fixed", "structural"])
-def test_an_array_state_is_counted_per_element_and_refused(tmp_path, size):
-    """One ContinuousStateDerivative of 3 elements is 3 states (FMI 3 counts per element);
-    the engine counted it as one and integrated x[1] alone."""
-    path = tmp_path / "hpy3.fmu"
-    with zipfile.ZipFile(path, "w") as zf:
-        zf.writestr("modelDescription.xml", FMI3.format(size=size))
-        zf.writestr("binaries/x86_64-linux/hpy3.so", b"not loaded")
-    refused(lambda: FMU(path), "is an array of 3 values", "scalar states only")
-
-
-def test_fmu_errors_are_assembly_errors():
-    assert issubclass(FmuError, AssemblyError)
+def test_a_listed_derivative_that_names_no_state_is_refused(tmp_path):
+    """Before: AttributeError ('NoneType' object has no attribute 'name') when the engine
+    read the states of it."""
+    xml = FMI2.format(x_start="0", k_start="1", derivatives=BOTH + '\n      <Unknown index="5"/>')
+    refused(lambda: FMU(fmu_file(tmp_path, xml)), "lists k as a state derivative",
+            "names no state")
