@@ -185,7 +185,7 @@ def component_facts(component: Component) -> dict:
     has recorded them (no flattening), else from its flat model (then recorded)."""
     key = fmu_recipe(component)
     facts = recipes().get(key).get("facts")
-    if facts is None:
+    if not _facts_whole(facts):
         facts = model_facts(flatten(component))
         recipes().update(key, facts=facts)
     return facts
@@ -252,11 +252,22 @@ def fetch_fmu(component: Component, fmi_version: int = 3, tolerance: float = 1e-
 def cached_fmu(key: str | None) -> BuiltFmu | None:
     """The FMU filed under recipe `key`, if it is in the cache."""
     entry = recipes().get(key)
-    if "fmu" in entry and "facts" in entry:
-        path = cache_dir() / "fmus" / entry["fmu"]
+    name = entry.get("fmu")
+    # a damaged entry is no entry: its FMU is found by content again, and filed anew
+    if isinstance(name, str) and name == Path(name).name and _facts_whole(entry.get("facts")):
+        path = cache_dir() / "fmus" / name
         if path.exists() and not _drop_if_damaged(path):
             return BuiltFmu(path, entry["facts"])
     return None
+
+
+_FACTS = ("chained_inputs", "indicators_follow_time", "can_terminate", "autonomous")
+
+
+def _facts_whole(facts) -> bool:
+    """Facts as model_facts writes them (a recipe file of the cache is input too)."""
+    return (isinstance(facts, dict) and all(k in facts for k in _FACTS)
+            and isinstance(facts["chained_inputs"], dict))
 
 
 def _drop_if_damaged(path: Path) -> bool:

@@ -140,3 +140,23 @@ def test_build_never_copies_out_a_damaged_fmu(own_cache, tmp_path):
     with zipfile.ZipFile(target) as zf:
         assert zf.testzip() is None
     assert validate_fmu(str(target)) == []
+
+
+@pytest.mark.parametrize("entry", ["[]", '{"fmu": "../../elsewhere.fmu", "facts": {}}',
+                                   '{"fmu": "X.fmu", "facts": {"autonomous": true}}'],
+                         ids=["not a dict", "path out of the cache", "facts cut short"])
+def test_a_damaged_recipe_entry_is_no_entry(tmp_path, monkeypatch, entry):
+    """A recipe file of the cache is read as input: an entry of the wrong shape is as
+    good as none (the FMU is found by its content and filed anew), never a KeyError or
+    a path outside the cache. Before: TypeError/KeyError, or the path taken as given."""
+    from components import ConstantSpeed
+    from fmus.build import component_facts, fetch_fmu, fmu_recipe, recipes
+    monkeypatch.setenv("MECHFMU_CACHE", str(tmp_path / "cache"))
+    built = fetch_fmu(ConstantSpeed())
+    key = fmu_recipe(ConstantSpeed())
+    (recipes().folder / f"{key[:40]}.json").write_text(entry)
+    again = fetch_fmu(ConstantSpeed())
+    assert again.path == built.path and again.facts == built.facts
+    assert recipes().get(key)["fmu"] == built.path.name
+    (recipes().folder / f"{key[:40]}.json").write_text(entry)
+    assert component_facts(ConstantSpeed()) == built.facts
