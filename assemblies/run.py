@@ -157,6 +157,14 @@ def check_cosim_only(mode: str, **settings) -> None:
                 "tolerance, --tolerance); leave it out or run mode 'cosim'")
 
 
+def check_choices(mode: str, engine: str) -> None:
+    """Refuse a master or an engine that does not exist, naming those that do."""
+    if mode not in MODES:
+        raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
+    if engine not in ENGINES:
+        raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
+
+
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c", prune=True) -> SceneRun:
@@ -165,10 +173,7 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     sc = name if isinstance(name, Scene) else scene(name)
     name = sc.name
     mode = sc.mode if mode is None else mode
-    if mode not in MODES:
-        raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
-    if engine not in ENGINES:
-        raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
+    check_choices(mode, engine)
     check_cosim_only(mode, scheme=scheme, adaptive=adaptive, extrapolation=extrapolation)
     if params is not None and not isinstance(params, dict):
         raise AssemblyError(f"params must be a dict of 'INSTANCE.NAME': value, e.g. "

@@ -304,14 +304,11 @@ def _check_settings(sc: Scene, stop_time, step, tolerance, mode, engine, outputs
     """What every run of the study shares, checked once before the first: a bad setting
     is one line now, not the same failed row for every run."""
     from .experiment import check_experiment  # the masters' own checks, and limits
-    from .run import ENGINES, MODES
+    from .run import check_choices
     stop = sc.stop_time if stop_time is None else stop_time
     check_experiment(stop, sc.step if step is None else step,
                      sc.tolerance if tolerance is None else tolerance, "output step")
-    if mode is not None and mode not in MODES:
-        raise SweepError(f"mode must be one of {', '.join(MODES)}, not {mode!r}")
-    if engine not in ENGINES:
-        raise SweepError(f"engine must be one of {', '.join(ENGINES)}, not {engine!r}")
+    check_choices(sc.mode if mode is None else mode, engine)
     for out in outputs:
         if out.at not in REDUCTIONS and not 0 <= float(out.at) <= stop:
             raise SweepError(f"output '{out.label}': {out.at} s is not in the run, which "

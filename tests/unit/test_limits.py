@@ -150,3 +150,14 @@ def test_an_exported_fmu_may_default_to_a_long_experiment(tmp_path):
     path = export_fmu(STICK_SLIP(), tmp_path / "long.fmu", stop_time=1e9, step=1e-3)
     assert 'stopTime="1000000000' in __import__("zipfile").ZipFile(path).read(
         "modelDescription.xml").decode()
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(mode="cosmic"), ["mode must be one of cosim, me, monolithic", "'cosmic'"]),
+    (dict(engine="x"), ["engine must be one of c, fmpy", "'x'"]),
+    (dict(stop_time=float("nan")), ["stop time must be a positive finite number", "nan"]),
+], ids=["mode", "engine", "stop nan"])
+def test_a_study_from_python_checks_its_settings_before_its_runs(kwargs, words):
+    """Before: a table of failed rows, the same error on each."""
+    quick_refusal(lambda: sweep("stick_slip", {"block.m": "1,2"}, workers=0, progress=False,
+                                **kwargs), *words)
