@@ -339,6 +339,11 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     seconds in a log), or a callable given the number of runs done. With `out`, writes
     the table, its JSON and a plot of `plot` columns there (:func:`write_sweep`).
 
+    What every run shares (stop time, step, tolerance, mode, engine, output times, the
+    study's size against :data:`assemblies.limits.MAX_SWEEP_RUNS`, `workers` against
+    :data:`assemblies.limits.WORKERS_PER_CORE`, `out`) is checked before the first run:
+    a mistake there is one SweepError or AssemblyError, not a failed row per run.
+
     Returns one row per run, in design order: ``run``, the parameters, ``status``
     (``ok``/``failed``), ``error``, the scene's figures (measured; ``NAME.ref`` the
     reference), ``passed``, the outputs, ``wall_s`` and ``worker``; ``table.attrs``
