@@ -147,3 +147,15 @@ def test_a_listed_derivative_that_names_no_state_is_refused(tmp_path):
     xml = FMI2.format(x_start="0", k_start="1", derivatives=BOTH + '\n      <Unknown index="5"/>')
     refused(lambda: FMU(fmu_file(tmp_path, xml)), "lists k as a state derivative",
             "names no state")
+
+
+def test_a_real_binary_with_a_state_its_structure_leaves_out_is_refused():
+    """tests/handmade/hpy_hidden: x' = v, v' = -x (x = sin t), both states declared, only
+    der(x) listed. fmpy's validation passes it, and fmpy's simulate_fmu and (before) our
+    engine gave it one state and ran it silently: x(3) = 3.0 instead of sin 3 = 0.141."""
+    from fmpy.validation import validate_fmu
+    from handmade_fmus import handmade_fmu
+    path = handmade_fmu("hpy_hidden")
+    assert validate_fmu(str(path)) == []  # the defect is one fmpy's validation lets through
+    refused(lambda: FMU(path), "lists 1 state derivative(s), but 2 variables",
+            "not listed: der(v)", "would not integrate their states")
