@@ -117,25 +117,15 @@ class FMU(Block):
                                   optional=v.causality == "input" and has_start))
             if not has_start:
                 continue
-            start = self._number(v, "start")
+            start = float(v.start)
             if v.causality in ("parameter", "input") and v.variability != "constant":
                 parameters.append(Parameter(
                     v.name, start, unit, description,
-                    min=self._number(v, "min") if v.min is not None else -math.inf,
-                    max=self._number(v, "max") if v.max is not None else math.inf))
+                    min=float(v.min) if v.min is not None else -math.inf,
+                    max=float(v.max) if v.max is not None else math.inf))
             elif v.name in derivative_of and v.initial in ("exact", "approx"):
                 states.append(State(v.name, start, unit, description))
         return tuple(ports), tuple(parameters), tuple(states)
-
-    def _number(self, v, attribute: str) -> float:
-        """A numeric attribute of a model variable, or FmuError naming it: the file is
-        input, and start="abc" is a mistake of its exporter, not a crash of ours."""
-        text = getattr(v, attribute)
-        try:
-            return float(text)
-        except (TypeError, ValueError):
-            raise FmuError(f"{self._file()}: variable {v.name} has {attribute}={str(text)!r}, "
-                           f"which is not a number; a {v.type} {attribute} must be one") from None
 
     # --- Block's interface -------------------------------------------------------------
     def _file(self) -> str:
@@ -234,8 +224,39 @@ def _read_model_description(path: Path):
     if md.modelExchange is None and md.coSimulation is None:
         raise FmuError(f"'{path}' has neither a Model Exchange nor a Co-Simulation interface "
                        "(FMI 3 Scheduled Execution is not supported)")
+    _check_numbers(path, md)
     _check_states(path, md)
     return md
+
+
+# the types whose start, min, max and nominal are numbers (one per element of an array)
+_NUMERIC = {"Real", "Integer", "Enumeration", "Float64", "Float32", "Int8", "UInt8", "Int16",
+            "UInt16", "Int32", "UInt32", "Int64", "UInt64"}
+
+
+def _check_numbers(path: Path, md) -> None:
+    """Every numeric attribute of a numeric variable reads as numbers: start="abc" is a
+    mistake of the exporter, named in one line, not a ValueError of whoever reads it."""
+    for v in md.modelVariables:
+        if v.type not in _NUMERIC:
+            continue
+        for attribute in ("start", "min", "max", "nominal"):
+            text = getattr(v, attribute, None)
+            if text is not None and not _numbers(str(text)):
+                raise FmuError(f"'{path}': variable {v.name} has {attribute}={str(text)!r}, "
+                               f"which is not a number; a {v.type} {attribute} must be "
+                               "one")
+
+
+def _numbers(text: str) -> bool:
+    """Is `text` one number, or several separated by spaces (an FMI 3 array's start)?"""
+    words = text.split()
+    try:
+        for word in words:
+            float(word)
+    except ValueError:
+        return False
+    return bool(words)
 
 
 def _check_entries(path: Path, names: list[str]) -> None:

@@ -119,7 +119,7 @@ def fmu_file(tmp_path, xml, extra=(), name="hpy.fmu"):
 def test_a_start_that_is_no_number_is_one_line(tmp_path):
     """Before: ValueError: could not convert string to float: 'abc' (a traceback)."""
     path = fmu_file(tmp_path, FMI2.format(x_start="0", k_start="abc", derivatives=BOTH))
-    refused(lambda: FMU(path), "FMU 'hpy.fmu': variable k has start='abc'", "not a number")
+    refused(lambda: FMU(path), "hpy.fmu': variable k has start='abc'", "not a number")
     assert isinstance(FMU(fmu_file(tmp_path, FMI2.format(x_start="1", k_start="2",
                                                         derivatives=BOTH), name="ok.fmu")), FMU)
 
