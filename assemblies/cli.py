@@ -217,11 +217,11 @@ def _cmd_sweep(args) -> int:
         params[name.strip()] = spec.strip()
     if not params:
         raise UsageError("sweep needs at least one --param INSTANCE.NAME=START:STOP:COUNT")
-    out = _output_folder(args.out, "--out")
+    _output_folder(args.out, "--out")  # made and checked before the study, not after
     table = sweep(args.scene, params, random=args.random, seed=args.seed,
                   outputs=args.output or (), workers=args.workers, scheduler=args.scheduler,
                   stop_time=args.stop_time, mode=args.mode)
-    paths = write_sweep(table, out, args.plot)
+    paths = write_sweep(table, args.out, args.plot)
     shown = ["run", *params, "status", *table.attrs["outputs"],
              *[c for c in table.columns if f"{c}.ref" in table.columns], "error"]
     print(table[[c for c in dict.fromkeys(shown) if c in table.columns]].to_string(index=False))
