@@ -113,14 +113,14 @@ class _Plan:
             f_values[:len(floats)] = [values[k] for k in floats]
             i_values[:len(ints)] = [int(values[k]) for k in ints]
 
-    def _buffers(self, name, stop_time, step):
+    def _buffers(self, stop_time, step):
         """The output times, the buffers the C writes (rows, when each instance fell
         asleep) and their addresses: kept for the next run of the same grid, since
         numpy's ctypes addresses cost microseconds each, as much as a short run's
         integration (the plan's lock makes the buffers one run's at a time)."""
         if self.grid is None or self.grid[0] != (stop_time, step):
             times = output_times(stop_time, step)
-            check_output_values(len(times), len(self.column_names), f"assembly '{name}'")
+            check_output_values(len(times), len(self.column_names), "the output table")
             out = np.empty((len(times), len(self.column_names)))
             asleep = np.empty(len(self.names))
             dp = C.POINTER(C.c_double)
@@ -136,7 +136,7 @@ class _Plan:
             scheme) -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
         lib = _engine()
-        times, out, asleep, pointers = self._buffers(name, stop_time, step)
+        times, out, asleep, pointers = self._buffers(stop_time, step)
         asleep.fill(np.inf)
         prog = B.Progress(progress)
         spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
