@@ -10,7 +10,7 @@ import pytest
 
 from assemblies import cosimulate, run_scene, scene, simulate_me
 from assemblies.limits import (MAX_OUTPUT_ROWS, MAX_SWEEP_RUNS, LimitError, check_output_rows,
-                               max_workers)
+                               check_output_values, max_workers)
 from assemblies.sweep import sweep
 from components.errors import MechfmuError
 from test_bad_input import one_line_error
@@ -64,6 +64,10 @@ def test_the_row_count_is_the_output_grid():
     assert check_output_rows(MAX_OUTPUT_ROWS - 1.0, 1.0) == MAX_OUTPUT_ROWS
     with pytest.raises(LimitError):
         check_output_rows(float(MAX_OUTPUT_ROWS), 1.0)
+    # rows x columns: 10 million rows of 26 columns are within 2**28 numbers, of 27 not
+    check_output_values(MAX_OUTPUT_ROWS, 26, "x")
+    with pytest.raises(LimitError, match="assemblies.limits.MAX_OUTPUT_VALUES"):
+        check_output_values(MAX_OUTPUT_ROWS, 27, "x")
 
 
 RUNS = ["assemblies.limits.MAX_SWEEP_RUNS", f"at most {MAX_SWEEP_RUNS:,}"]
