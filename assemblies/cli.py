@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import tempfile
 from pathlib import Path
 
 from assemblies.scene_names import SCENE_NAMES
@@ -59,17 +58,8 @@ def _parse_params(pairs: list[str]) -> dict[str, str]:
 def _output_folder(path: str, option: str) -> Path:
     """`path` as a folder the run can write into, made now: a mistake here is found before
     a long run, not after it."""
-    folder = Path(path)
-    if folder.exists() and not folder.is_dir():
-        raise UsageError(f"{option} {path} is a file; {option} takes a folder (made if missing)")
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryFile(dir=folder):
-            pass
-    except OSError as exc:
-        raise UsageError(f"{option} {path}: cannot write there ({exc.strerror}); {option} takes "
-                         "a folder you can write in (made if missing)") from None
-    return folder
+    from components.errors import writable_folder
+    return writable_folder(path, option, UsageError)
 
 
 def _output_file(path: str, option: str, suffix: str) -> Path:
@@ -229,6 +219,7 @@ def _cmd_sweep(args) -> int:
         params[name.strip()] = spec.strip()
     if not params:
         raise UsageError("sweep needs at least one --param INSTANCE.NAME=START:STOP:COUNT")
+    _output_folder(args.out, "--out")  # made and checked before the study, not after
     table = sweep(args.scene, params, random=args.random, seed=args.seed,
                   outputs=args.output or (), workers=args.workers, scheduler=args.scheduler,
                   stop_time=args.stop_time, mode=args.mode, start_time=args.start_time)
@@ -355,7 +346,8 @@ def _parser() -> argparse.ArgumentParser:
     w.add_argument("--seed", type=int, help="seed of the --random design (repeatable studies)")
     where = w.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
-                       help="worker processes of a local Dask cluster (default: one per core)")
+                       help="worker processes of a local Dask cluster (default: one per core; at "
+                            "most two per core; 0 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="a running Dask scheduler, e.g. tcp://127.0.0.1:8786")
     w.add_argument("--output", action="append", metavar="NAME@T",

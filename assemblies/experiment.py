@@ -9,15 +9,21 @@ import numpy as np
 from components.errors import check_tolerance, positive_finite
 
 from .assembly import AssemblyError
+from .limits import check_output_rows
 
 
 def check_experiment(stop_time: float, step: float, tolerance: float,
-                     step_name: str = "communication step", start_time: float = 0.0) -> None:
-    """Reject what no master can run, naming the setting and what is allowed."""
+                     step_name: str = "communication step", start_time: float = 0.0,
+                     rows: bool = True) -> None:
+    """Reject what no master can run, naming the setting and what is allowed; with
+    `rows`, also an output table beyond memory (a run writes one row per step from the
+    start time; an exported FMU's default experiment writes none)."""
     positive_finite(stop_time, "stop time", AssemblyError)
     positive_finite(step, step_name, AssemblyError)
     check_tolerance(tolerance, "tolerance", AssemblyError)
     check_start_time(start_time, stop_time)
+    if rows:  # before any master allocates them
+        check_output_rows(stop_time - start_time, step, step_name)
 
 
 def check_start_time(start_time: float, stop_time: float) -> None:

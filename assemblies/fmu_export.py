@@ -28,6 +28,7 @@ from pathlib import Path
 
 from fmpy import read_model_description
 
+from components.errors import writable_file
 from fmus.build import FMI_HEADERS, RUNTIME_DIR, cached_library, platform_folder, token_from_digest
 from fmus.model_description import FMI_VERSIONS, GENERATION_TOOL, shared_head, xml_attributes
 
@@ -75,6 +76,8 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
     """
     if fmi not in FMI_VERSIONS:
         raise AssemblyError(f"export_fmu: fmi must be 2 or 3, not {fmi!r}")
+    # before the members are built and the engine compiled (seconds), not after
+    path = writable_file(path, "export_fmu: path", ".fmu", AssemblyError)
     foreign = {n: c for n, c in assembly.components.items() if isinstance(c, FMU)}
     if mode is None:
         me_only = any("cosim" not in c.modes_supported() for c in foreign.values())
@@ -98,7 +101,7 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
     s = {**DEFAULT_SCHEME, "loop_tolerance": 1e-10, "max_loop_iterations": 20, "newton": True,
          **settings}
     s.setdefault("event_sync", bool(s["adaptive"]))
-    check_experiment(stop_time, step, tolerance)
+    check_experiment(stop_time, step, tolerance, rows=False)  # the importer keeps the rows
     check_cosim_settings(scheme, s["extrapolation"], s["adaptive"], s["tol"])
 
     assembly.signals_from_outside = True  # open signal inputs become the FMU's inputs
@@ -142,19 +145,20 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
     xml = _model_description(assembly, identifier, token, ports, fmi, stop_time, step, mode,
                              sum(f.n_event_indicators for f in fmus.values()))
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     partial = path.with_name(path.name + f".{os.getpid()}.partial")
-    with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("modelDescription.xml", xml)
-        zf.write(library(fmi), f"binaries/{platform_folder(fmi)}/{identifier}.so")
-        zf.writestr("resources/assembly.txt", config.replace("@TOKEN@", token))
-        for n in names:
-            root = Path(fmus[n].unzip_dir)
-            for file in sorted(root.rglob("*")):
-                if file.is_file():
-                    zf.write(file, f"resources/{n}/{file.relative_to(root).as_posix()}")
-    partial.replace(path)
+    try:
+        with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:
+            zf.writestr("modelDescription.xml", xml)
+            zf.write(library(fmi), f"binaries/{platform_folder(fmi)}/{identifier}.so")
+            zf.writestr("resources/assembly.txt", config.replace("@TOKEN@", token))
+            for n in names:
+                root = Path(fmus[n].unzip_dir)
+                for file in sorted(root.rglob("*")):
+                    if file.is_file():
+                        zf.write(file, f"resources/{n}/{file.relative_to(root).as_posix()}")
+        partial.replace(path)
+    finally:
+        partial.unlink(missing_ok=True)  # what failed half-way leaves nothing behind
     return path
 
 

@@ -71,6 +71,9 @@ class FMU(Block):
 
     def __init__(self, path: str | os.PathLike, name: str | None = None,
                  units: dict[str, str] | None = None, **values):
+        if not isinstance(path, (str, os.PathLike)):
+            raise FmuError(f"FMU: path must be the path of an .fmu file (str or Path), not "
+                           f"{type(path).__name__} {path!r}")
         self.path = Path(path).expanduser().resolve()
         md = _read_model_description(self.path)
         self.model_description = md
@@ -273,8 +276,10 @@ def _read_model_description(path: Path):
         raise FmuError(f"'{path}' is not an FMU: an FMU is a zip archive with a "
                        "modelDescription.xml")
     with zipfile.ZipFile(path) as zf:
-        if "modelDescription.xml" not in zf.namelist():
-            raise FmuError(f"'{path}' is not an FMU: the archive has no modelDescription.xml")
+        names = zf.namelist()
+    if "modelDescription.xml" not in names:
+        raise FmuError(f"'{path}' is not an FMU: the archive has no modelDescription.xml")
+    _check_entries(path, names)
     try:
         # not validated: many tools write descriptions fmpy's validation rejects (CasADi's
         # export lacks UnitDefinitions); what the engine needs is read all the same
@@ -287,7 +292,79 @@ def _read_model_description(path: Path):
     if md.modelExchange is None and md.coSimulation is None:
         raise FmuError(f"'{path}' has neither a Model Exchange nor a Co-Simulation interface "
                        "(FMI 3 Scheduled Execution is not supported)")
+    _check_numbers(path, md)
+    _check_states(path, md)
     return md
+
+
+# the types whose start, min, max and nominal are numbers (one per element of an array)
+_NUMERIC = {"Real", "Integer", "Enumeration", "Float64", "Float32", "Int8", "UInt8", "Int16",
+            "UInt16", "Int32", "UInt32", "Int64", "UInt64"}
+
+
+def _check_numbers(path: Path, md) -> None:
+    """Every numeric attribute of a numeric variable reads as numbers: start="abc" is a
+    mistake of the exporter, named in one line, not a ValueError of whoever reads it."""
+    for v in md.modelVariables:
+        if v.type not in _NUMERIC:
+            continue
+        for attribute in ("start", "min", "max", "nominal"):
+            text = getattr(v, attribute, None)
+            if text is not None and not _numbers(str(text)):
+                raise FmuError(f"'{path}': variable {v.name} has {attribute}={str(text)!r}, "
+                               f"which is not a number; a {v.type} {attribute} must be "
+                               "one")
+
+
+def _numbers(text: str) -> bool:
+    """Is `text` one number, or several separated by spaces (an FMI 3 array's start)?"""
+    words = text.split()
+    try:
+        for word in words:
+            float(word)
+    except ValueError:
+        return False
+    return bool(words)
+
+
+def _check_entries(path: Path, names: list[str]) -> None:
+    """Every file of the archive inside its folder: an absolute name or one that climbs
+    out with '..' would be written anywhere when the FMU is extracted."""
+    for name in names:
+        parts = name.replace("\\", "/").split("/")
+        if name.startswith(("/", "\\")) or (len(name) > 1 and name[1] == ":") or ".." in parts:
+            raise FmuError(f"'{path}' is not a usable FMU: its archive entry '{name}' lies "
+                           "outside the folder it is extracted to (an absolute path or '..'); "
+                           "an FMU's files are relative paths inside it")
+
+
+def _check_states(path: Path, md) -> None:
+    """The continuous states the engine will integrate are the ones the file declares.
+
+    The engine gives the FMU as many states as ModelStructure lists derivatives (an
+    FMI 3 array counting per element). What a file can show is checked: every variable
+    declared the derivative of a state is among those listed (FMI 2 and FMI 3 require
+    it; an alias shares the listed one's value reference), and every one listed names
+    its state. A binary with states its file names nowhere cannot be seen from outside:
+    FMI has no call that reports the count, and asking for more states than declared is
+    not allowed."""
+    listed = [u.variable for u in md.derivatives]
+    declared = [v for v in md.modelVariables if v.derivative is not None]
+    # by value reference: an alias of a listed derivative (FMI 2 aliases share one) is
+    # the same value, listed once
+    refs = {(v.type, v.valueReference) for v in listed}
+    missing = [v.name for v in declared if (v.type, v.valueReference) not in refs]
+    if missing:
+        raise FmuError(
+            f"'{path}': ModelStructure lists {len(listed)} state derivative(s), but "
+            f"{len(declared)} variables are declared derivatives of states; not listed: "
+            f"{', '.join(missing)}; the engine would not integrate their states (the FMI "
+            "standard lists every one)")
+    for v in listed:
+        if v.derivative is None:
+            raise FmuError(f"'{path}': ModelStructure lists {v.name} as a state derivative, "
+                           "but the variable names no state it is the derivative of (its "
+                           "derivative attribute is missing)")
 
 
 def _interfaces_with_binaries(path: Path, md) -> tuple[str, ...]:

@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from components.errors import writable_folder
 from components.table_sources import TimeTable
 
 from .assembly import AssemblyError
@@ -171,6 +172,14 @@ def check_cosim_only(mode: str, **settings) -> None:
                 "tolerance, --tolerance); leave it out or run mode 'cosim'")
 
 
+def check_choices(mode: str, engine: str) -> None:
+    """Refuse a master or an engine that does not exist, naming those that do."""
+    if mode not in MODES:
+        raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
+    if engine not in ENGINES:
+        raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
+
+
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c", prune=True, jacobian=None, start_time=None,
@@ -180,14 +189,13 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     sc = name if isinstance(name, Scene) else scene(name)
     name = sc.name
     mode = sc.mode if mode is None else mode
-    if mode not in MODES:
-        raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
-    if engine not in ENGINES:
-        raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
+    check_choices(mode, engine)
     check_cosim_only(mode, scheme=scheme, adaptive=adaptive, extrapolation=extrapolation)
     if params is not None and not isinstance(params, dict):
         raise AssemblyError(f"params must be a dict of 'INSTANCE.NAME': value, e.g. "
                             f"{{'block.m': 2}}, not {type(params).__name__} {params!r}")
+    if out is not None:  # a folder that cannot be written is found before the run
+        out = writable_folder(out, "out", AssemblyError)
     asm = sc.build()
     for key, value in (params or {}).items():
         asm.set(key, value)
@@ -229,8 +237,6 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     run = SceneRun(name, result, sc.figures(result, asm))
     result.figures = run.figures
     if out is not None:
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
         result.to_csv(out / f"{name}.csv")
         title, png = f"{name}: {sc.description}", out / f"{name}.png"
         if sc.picture is not None:

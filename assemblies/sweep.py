@@ -38,10 +38,11 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
+from components.errors import writable_folder
 from components.interfaces import ComponentError
 
 from .assembly import Assembly, AssemblyError
-from .experiment import check_start_time
+from .limits import check_sweep_runs, check_workers
 from .masters.cosim import SimulationError
 from .scenes import Scene, scene
 
@@ -130,6 +131,7 @@ def parse_values(name: str, spec) -> list:
     if count < 1:
         raise SweepError(f"--param {name}={spec}: COUNT must be a whole number >= 1, "
                          f"not '{parts[2]}'")
+    check_sweep_runs(count, f"--param {name}={spec}")  # before its values are made
     return list(np.linspace(start, stop, count)) if count > 1 else [start]
 
 
@@ -143,9 +145,13 @@ def design(params: dict, random: int | None = None, seed: int | None = None) -> 
     """
     axes = {name: parse_values(name, spec) for name, spec in params.items()}
     if random is None:
+        check_sweep_runs(math.prod(len(v) for v in axes.values()),
+                         "the grid of " + " x ".join(f"{len(v)} {n}" for n, v in axes.items()))
         return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
-    if not (isinstance(random, (int, np.integer)) and random >= 1):
+    if not (isinstance(random, (int, np.integer)) and not isinstance(random, bool)
+            and random >= 1):
         raise SweepError(f"--random must be a whole number of runs >= 1, not {random!r}")
+    check_sweep_runs(random, f"--random {random}")
     from scipy.stats import qmc
     ranges = {}
     for name, values in axes.items():
@@ -262,9 +268,7 @@ def dask_client(workers: int | None = None, scheduler=None):
         finally:
             client.close()
         return
-    n = (os.cpu_count() or 1) if workers is None else workers
-    if not (isinstance(n, (int, np.integer)) and n >= 1):
-        raise SweepError(f"workers must be a whole number >= 1, not {workers!r}")
+    n = (os.cpu_count() or 1) if workers is None else check_workers(workers)
     # no dashboard; the scheduler's HTTP server (it always has one) on a free port, not on
     # 8787, which another cluster on the machine may hold
     with LocalCluster(n_workers=int(n), threads_per_worker=1, processes=True,
@@ -295,6 +299,28 @@ def _check_names(sc: Scene, names, outputs) -> None:
                                  f"{', '.join(recorded)}")
 
 
+def _check_settings(sc: Scene, stop_time, step, tolerance, mode, engine, outputs,
+                    workers, chunk, start_time) -> None:
+    """What every run of the study shares, checked once before the first: a bad setting
+    is one line now, not the same failed row for every run."""
+    from .experiment import check_experiment  # the masters' own checks, and limits
+    from .run import check_choices
+    stop = sc.stop_time if stop_time is None else stop_time
+    start = 0.0 if start_time is None else start_time
+    check_experiment(stop, sc.step if step is None else step,
+                     sc.tolerance if tolerance is None else tolerance, "output step", start)
+    check_choices(sc.mode if mode is None else mode, engine)
+    for out in outputs:
+        if out.at not in REDUCTIONS and not start <= float(out.at) <= stop:
+            raise SweepError(f"output '{out.label}': {out.at} s is not in the run, which "
+                             f"goes from {start:g} s to the stop time {stop:g} s")
+    if workers not in (None, 0):
+        check_workers(workers)
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer))
+                              or chunk < 1):
+        raise SweepError(f"chunk must be a whole number of runs per task >= 1, not {chunk!r}")
+
+
 def sweep(target, params: dict, *, random: int | None = None, seed: int | None = None,
           outputs=(), measure: Callable | None = None, workers: int | None = None,
           scheduler=None, stop_time: float | None = None, step: float | None = None,
@@ -316,15 +342,22 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     the table, its JSON and a plot of `plot` columns there (:func:`write_sweep`).
     `start_time`: where each run starts (None: 0).
 
+    What every run shares (stop time, step, tolerance, mode, engine, output times, the
+    study's size against :data:`assemblies.limits.MAX_SWEEP_RUNS`, `workers` against
+    :data:`assemblies.limits.WORKERS_PER_CORE`, `out`) is checked before the first run:
+    a mistake there is one SweepError or AssemblyError, not a failed row per run.
+
     Returns one row per run, in design order: ``run``, the parameters, ``status``
     (``ok``/``failed``), ``error``, the scene's figures (measured; ``NAME.ref`` the
     reference), ``passed``, the outputs, ``wall_s`` and ``worker``; ``table.attrs``
     describes the study.
     """
     sc = as_scene(target, stop_time, step, tolerance)
-    if start_time is not None:  # one line now, not a failed row per run
-        check_start_time(start_time, sc.stop_time if stop_time is None else stop_time)
     outputs = [o if isinstance(o, Output) else parse_output(o) for o in outputs]
+    _check_settings(sc, stop_time, step, tolerance, mode, engine, outputs, workers, chunk,
+                    start_time)
+    if out is not None:  # before the study, not after it
+        out = writable_folder(out, "out", SweepError)
     runs = design(params, random, seed)
     _check_names(sc, list(params), outputs)
     settings = {k: v for k, v in dict(stop_time=stop_time, step=step, tolerance=tolerance,
@@ -479,9 +512,9 @@ def write_sweep(table: pd.DataFrame, out: str | Path, plot: list[str] | None = N
     """``sweep_SCENE.csv`` (the table), ``sweep_SCENE.json`` (the study: design, settings,
     timing, failed runs with their errors) and, with one or two parameters varying,
     ``sweep_SCENE.png``; returns the paths written."""
-    from .sweep_plot import default_columns, plot_sweep
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    from .sweep_plot import check_columns, default_columns, plot_sweep
+    check_columns(table, plot or [])  # a plot that cannot be made leaves no files behind
+    out = writable_folder(out, "out", SweepError)
     stem = out / f"sweep_{table.attrs.get('scene', 'study')}"
     paths = [stem.with_suffix(".csv"), stem.with_suffix(".json")]
     table.to_csv(paths[0], index=False)

@@ -29,16 +29,21 @@ def default_columns(table: pd.DataFrame) -> list[str]:
     return numeric[:MAX_PANELS]
 
 
-def plot_sweep(table: pd.DataFrame, varying: list[str], columns: list[str],
-               path: str | Path) -> None:
-    """One panel per column: over one parameter a line (with the figure's reference,
-    dashed, where it has one), over two a coloured map (cells for a grid, points for a
-    random design)."""
+def check_columns(table: pd.DataFrame, columns: list[str]) -> None:
+    """SweepError naming the first of `columns` the table lacks, and the columns it has."""
     for column in columns:
         if column not in table.columns:
             from .sweep import SweepError
             raise SweepError(f"cannot plot '{column}': the study has no such column; "
                              f"columns: {', '.join(table.columns)}")
+
+
+def plot_sweep(table: pd.DataFrame, varying: list[str], columns: list[str],
+               path: str | Path) -> None:
+    """One panel per column: over one parameter a line (with the figure's reference,
+    dashed, where it has one), over two a coloured map (cells for a grid, points for a
+    random design)."""
+    check_columns(table, columns)
     ok, failed = table[table["status"] == "ok"], table[table["status"] == "failed"]
     fig, axes = plt.subplots(len(columns), 1, figsize=(7.5, 2.6 * len(columns) + 0.9),
                              squeeze=False, sharex=True)
@@ -89,4 +94,4 @@ def _map(ax, fig, ok, failed, x, y, column, is_grid):
     ax.set_ylabel(y)
 
 
-__all__ = ["default_columns", "plot_sweep"]
+__all__ = ["check_columns", "default_columns", "plot_sweep"]

@@ -14,6 +14,8 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+import numpy as np
+
 from .interfaces import (ComponentError, Constraint, Mode, Option, Parameter, Port,
                          Profile, State)
 
@@ -82,6 +84,9 @@ class Block:
             raise ComponentError(
                 f"{self._where()}: unknown name '{name}'; settable names: "
                 f"{', '.join(self.settable_names())}")
+        if isinstance(value, (bool, np.bool_)):  # float(True) is 1.0: a slip, never a mass
+            raise ComponentError(f"{self._where()}: {name} = {value!r} is not a number "
+                                 f"(a bool); {name} takes a number")
         try:
             number = float(value)
         except (TypeError, ValueError):

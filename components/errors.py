@@ -72,3 +72,19 @@ def writable_file(path, what: str, kind: str, error: type[MechfmuError] = Compon
         raise error(f"{what} {path}: cannot write in {target.parent} ({exc.strerror}); "
                     f"{what} takes a {kind} path in a folder you can write in") from None
     return target
+
+
+def writable_folder(path, what: str, error: type[MechfmuError] = ComponentError) -> Path:
+    """`path` as a folder one can write in, made now if missing: a mistake is found before
+    a long run, not after it; else `error` saying which."""
+    folder = Path(path)
+    if folder.exists() and not folder.is_dir():
+        raise error(f"{what} {path} is a file; {what} takes a folder (made if missing)")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise error(f"{what} {path}: cannot write there ({exc.strerror}); {what} takes "
+                    "a folder you can write in (made if missing)") from None
+    return folder

@@ -8,6 +8,7 @@ one causality profile into an explicit, mode-switched ODE.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -57,13 +58,15 @@ class Option:
     def parse(self, value) -> str | int:
         """The value as the option's type, or None if it is not one of the choices."""
         if isinstance(self.choices, range):
-            try:
-                number = float(value)
-            except (TypeError, ValueError):
+            # an int, or its digits as text (the command line); a float is no count of
+            # anything, even 2.0, and a bool is no integer to count with
+            if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+                number = int(value)
+            elif isinstance(value, str) and value.strip().lstrip("+-").isdigit():
+                number = int(value.strip())
+            else:
                 return None
-            if not number.is_integer() or int(number) not in self.choices:
-                return None
-            return int(number)
+            return number if number in self.choices else None
         return value if value in self.choices else None
 
     def allowed(self) -> str:

@@ -33,6 +33,7 @@ from components.component import Component
 from components.errors import ComponentError, MechfmuError, check_tolerance, writable_file
 from components.dae import flatten
 
+from . import integrity
 from .codegen import generate_c, time_invariant
 from .documentation import documentation_html
 from .model_description import FMI_VERSIONS, model_description
@@ -129,11 +130,16 @@ def cached_library(folder: str, stem: str, sources: list[Path], include_dirs: li
         h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
     h.update(" ".join([*CFLAGS, *defines]).encode())
     target = cache_dir() / folder / f"{stem}-{h.hexdigest()[:16]}.so"
+    if target.exists() and not integrity.intact(target, integrity.elf_is_whole):
+        # loading a damaged library crashes the process (SIGBUS), so it is never trusted
+        integrity.report(target, f"library of {what}", announce)
+        integrity.discard(target)
     if not target.exists():
         target.parent.mkdir(parents=True, exist_ok=True)
         partial = target.with_suffix(f".{os.getpid()}.partial")
         compile_library([p for p in sources if p.suffix == ".c"], partial, include_dirs, what,
                         defines)
+        integrity.record(target, partial)
         partial.replace(target)  # atomic: a parallel build never loads half a library
     return target
 
@@ -179,7 +185,7 @@ def component_facts(component: Component) -> dict:
     has recorded them (no flattening), else from its flat model (then recorded)."""
     key = fmu_recipe(component)
     facts = recipes().get(key).get("facts")
-    if facts is None:
+    if not _facts_whole(facts):
         facts = model_facts(flatten(component))
         recipes().update(key, facts=facts)
     return facts
@@ -232,6 +238,7 @@ def fetch_fmu(component: Component, fmi_version: int = 3, tolerance: float = 1e-
     digest = content_hash(f"fmi{fmi_version}", c_source, xml, html)
     token = token_from_digest(digest)
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
+    _drop_if_damaged(cached)
     if not cached.exists():
         if announce:
             announce(f"building the FMU of {identifier} (FMI {fmi_version}, once per machine)")
@@ -245,11 +252,33 @@ def fetch_fmu(component: Component, fmi_version: int = 3, tolerance: float = 1e-
 def cached_fmu(key: str | None) -> BuiltFmu | None:
     """The FMU filed under recipe `key`, if it is in the cache."""
     entry = recipes().get(key)
-    if "fmu" in entry and "facts" in entry:
-        path = cache_dir() / "fmus" / entry["fmu"]
-        if path.exists():
+    name = entry.get("fmu")
+    # a damaged entry is no entry: its FMU is found by content again, and filed anew
+    if isinstance(name, str) and name == Path(name).name and _facts_whole(entry.get("facts")):
+        path = cache_dir() / "fmus" / name
+        if path.exists() and not _drop_if_damaged(path):
             return BuiltFmu(path, entry["facts"])
     return None
+
+
+_FACTS = ("chained_inputs", "indicators_follow_time", "can_terminate", "autonomous")
+
+
+def _facts_whole(facts) -> bool:
+    """Facts as model_facts writes them (a recipe file of the cache is input too)."""
+    return (isinstance(facts, dict) and all(k in facts for k in _FACTS)
+            and isinstance(facts["chained_inputs"], dict))
+
+
+def _drop_if_damaged(path: Path) -> bool:
+    """Remove a cached FMU whose bytes are not those its build wrote (said once); True if
+    it was damaged. One from before checksums were recorded is trusted if every member
+    of its archive reads back with its CRC."""
+    if not path.exists() or integrity.intact(path, integrity.zip_is_whole):
+        return False
+    integrity.report(path, "FMU", announce)
+    integrity.discard(path)
+    return True
 
 
 def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version: int,
@@ -277,4 +306,5 @@ def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version
                 zf.write(path, f"sources/{path.name}")
             if documentation:
                 zf.writestr("documentation/index.html", documentation)
+        integrity.record(target, partial)
         partial.replace(target)  # atomic: parallel builds never see half an FMU

@@ -266,9 +266,10 @@ class RecipeStore:
         if key is None:
             return {}
         try:
-            return json.loads(self._file(key).read_text())
+            entry = json.loads(self._file(key).read_text())
         except (OSError, ValueError):
             return {}
+        return entry if isinstance(entry, dict) else {}  # a damaged file is no entry
 
     def update(self, key: str | None, **entries) -> None:
         if key is None:

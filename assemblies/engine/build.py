@@ -11,7 +11,7 @@ import ctypes
 import functools
 from pathlib import Path
 
-from fmus.build import FMI_HEADERS, RUNTIME_DIR, cached_library
+from fmus.build import FMI_HEADERS, RUNTIME_DIR, BuildError, cached_library
 
 C_DIR = Path(__file__).parent / "c"
 # the FMU runtime's sources the engine links: solvers, their LU, event location
@@ -34,4 +34,9 @@ def library_path() -> Path:
 @functools.lru_cache(maxsize=None)
 def library() -> ctypes.CDLL:
     """The engine, loaded once per process."""
-    return ctypes.CDLL(str(library_path()))
+    path = library_path()  # checked against the checksum its build recorded
+    try:
+        return ctypes.CDLL(str(path))
+    except OSError as exc:  # intact but unloadable: a different machine wrote the cache
+        raise BuildError(f"cannot load the engine library {path} ({exc}); remove it and "
+                         "run again to rebuild it") from None

@@ -32,6 +32,7 @@ from ..experiment import (FixedStepFallback, check_cosim_settings, check_experim
                           fixed_step_fallback, output_times)
 from ..foreign import check_mode
 from ..inputs import with_inputs
+from ..limits import check_output_values
 from ..masters.extrapolation import derivative_couplings, is_held
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
@@ -229,6 +230,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     spec.n_columns, spec.columns = len(columns), keep.array(Variable, [var(i, v) for i, v in columns])
 
     times = output_times(stop_time, step, start_time)
+    check_output_values(len(times), 1 + len(columns), f"assembly '{assembly.name}'")
     out = np.empty((len(times), 1 + len(columns)))  # the C writes rows [0, n_rows)
     spec.n_times, spec.times = len(times), keep.numpy(times, C.c_double)
     spec.out = keep.numpy(out, C.c_double)

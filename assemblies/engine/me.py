@@ -28,6 +28,7 @@ from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment, output_times
 from ..foreign import check_mode
 from ..inputs import with_inputs
+from ..limits import check_output_values
 from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
@@ -143,6 +144,7 @@ class _Plan:
         integration (the plan's lock makes the buffers one run's at a time)."""
         if self.grid is None or self.grid[0] != (start_time, stop_time, step):
             times = output_times(stop_time, step, start_time)
+            check_output_values(len(times), len(self.column_names), "the output table")
             out = np.empty((len(times), len(self.column_names)))
             asleep = np.empty(len(self.names))
             dp = C.POINTER(C.c_double)

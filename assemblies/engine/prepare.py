@@ -26,6 +26,7 @@ import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from fmus import build as fmu_build, integrity
 from fmus.build import cache_dir, cached_fmu, fetch_fmu, fmu_recipe, recipes
 from fmus.recipe import combine, files_digest
 
@@ -221,6 +222,10 @@ def _prepared_in_cache(path: Path) -> PreparedFmu:
     written once, atomically, read by every later process."""
     folder = cache_dir() / "prepared"
     unzip_dir, summary = folder / path.stem, folder / f"{path.stem}.json"
+    if unzip_dir.is_dir() and not integrity.extracted_intact(path, unzip_dir):
+        # the engine loads the binary from here: a damaged one would crash every run
+        integrity.report(unzip_dir, "extracted FMU", fmu_build.announce, "extracting it again")
+        shutil.rmtree(unzip_dir, ignore_errors=True)
     try:
         saved = json.loads(summary.read_text())
         if unzip_dir.is_dir():

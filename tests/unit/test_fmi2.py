@@ -92,7 +92,14 @@ T_HIT = math.sqrt(2 * 2.0 / 9.81)  # h = 2 - g t^2 / 2
 
 def _callbacks(messages):
     """fmi2CallbackFunctions whose logger records (status, message); fmpy's native
-    proxy does the printf formatting that ctypes cannot."""
+    proxy does the printf formatting that ctypes cannot.
+
+    The proxy forwards to the Python logger registered last, process-wide, and importing
+    the fmpy master (assemblies.masters.cosim) registers its own: callbacks made once at
+    import would lose every message to it whenever another test module imports that
+    master after this one (test_terminate does). So each instantiation makes and
+    registers its own; all of them record into MESSAGES, and each check looks at the
+    messages its call added."""
     def log(env, name, status, category, message):
         messages.append((status, message.decode()))
     cb = fmi2CallbackFunctions()
@@ -103,10 +110,14 @@ def _callbacks(messages):
     return cb
 
 
-# fmpy's proxy forwards to the Python logger registered last, process-wide, so every
-# instance here shares one logger; each check looks at the messages its call added.
 MESSAGES: list = []
-CALLBACKS = _callbacks(MESSAGES)
+_KEEP = []  # every callbacks struct handed to an FMU, alive as long as the process
+
+
+def _registered():
+    """Fresh callbacks, registered now as the proxy's recipient (see _callbacks)."""
+    _KEEP.append(_callbacks(MESSAGES))
+    return _KEEP[-1]
 
 
 def _open(component, kind, guid=None):
@@ -114,7 +125,7 @@ def _open(component, kind, guid=None):
     md = read_model_description(str(path))
     fmu = kind(guid=guid or md.guid, unzipDirectory=extract(str(path)),
                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="blk")
-    fmu.instantiate(callbacks=CALLBACKS)
+    fmu.instantiate(callbacks=_registered())
     return fmu, {v.name: v.valueReference for v in md.modelVariables}, MESSAGES
 
 
@@ -214,9 +225,9 @@ def test_instantiate_checks_guid_and_fmu_type():
     fmu = FMU2Slave(guid="{not-this-one}", unzipDirectory=extract(str(path)),
                     modelIdentifier="SpringBlock", instanceName="blk")
     with pytest.raises(Exception, match="Failed to instantiate"):
-        fmu.instantiate(callbacks=CALLBACKS)
+        fmu.instantiate(callbacks=_registered())
     assert "GUID '{not-this-one}'" in MESSAGES[-1][1] and md.guid in MESSAGES[-1][1]
-    bad_type = fmu.fmi2Instantiate(b"blk", 7, md.guid.encode(), b"", byref(CALLBACKS), 0, 0)
+    bad_type = fmu.fmi2Instantiate(b"blk", 7, md.guid.encode(), b"", byref(_registered()), 0, 0)
     assert not bad_type and "fmuType 7" in MESSAGES[-1][1]
     fmu.freeLibrary()
 

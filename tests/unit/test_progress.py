@@ -67,6 +67,7 @@ def test_the_command_says_when_it_builds_an_fmu(monkeypatch, tmp_path, capsys):
     """A build takes seconds (a 64-mode beam, more), so a command that builds is never
     silent: one line on stderr per FMU compiled, none when the cache has it."""
     import fmus.build
+    import fmus.integrity
     from assemblies.cli import _say_when_building
     from components import SpringBlock
 
@@ -76,6 +77,7 @@ def test_the_command_says_when_it_builds_an_fmu(monkeypatch, tmp_path, capsys):
         compiled.append(identifier)  # gcc is not what this test is about
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_bytes(b"")
+        fmus.integrity.record(target)  # as a build does: the cache trusts what it recorded
 
     monkeypatch.setenv("MECHFMU_CACHE", str(tmp_path))
     monkeypatch.setattr(fmus.build, "_compile", compile_stand_in)
