@@ -212,6 +212,8 @@ class FMU(Block):
         if value_type == "String":
             self._strings[key] = value
             return
+        if value_type == "Boolean":  # checked above; a Block takes no bools (a slip there)
+            value = int(value)
         super().set(key, value)
 
     # --- which modes can run it -------------------------------------------------------
