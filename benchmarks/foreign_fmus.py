@@ -250,6 +250,46 @@ class BouncingBall3(Fmi3SlaveBase, ModelExchange):
         return result
 '''
 
+DROP3 = '''
+from pythonfmu3 import (Fmi3Causality, Fmi3Initial, Fmi3SlaveBase, Fmi3Variability, Float64,
+                        ModelExchange)
+from pythonfmu3.modelexchange import Fmi3UpdateDiscreteStatesResult
+
+
+class Drop3(Fmi3SlaveBase, ModelExchange):
+    """A ball dropped from h = 2 m (g = 9.81 m/s2) whose model ends the run when it reaches
+    the ground: terminateSimulation at the event of the indicator h."""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.time, self.h, self.v, self.g = 0.0, 2.0, 0.0, 9.81
+        self.der_h, self.der_v = 0.0, 0.0
+        continuous = Fmi3Variability.continuous
+        self.register_variable(Float64("time", causality=Fmi3Causality.independent,
+                                       variability=continuous))
+        self.register_variable(Float64("h", causality=Fmi3Causality.output, start=2.0,
+                                       variability=continuous, initial=Fmi3Initial.exact),
+                               has_event_indicator=True)
+        self.register_variable(Float64("der_h", causality=Fmi3Causality.local,
+                                       variability=continuous, derivative=1))
+        self.register_variable(Float64("v", causality=Fmi3Causality.output, start=0.0,
+                                       variability=continuous, initial=Fmi3Initial.exact))
+        self.register_variable(Float64("der_v", causality=Fmi3Causality.local,
+                                       variability=continuous, derivative=3))
+        self.register_variable(Float64("g", causality=Fmi3Causality.parameter,
+                                       variability=Fmi3Variability.fixed))
+
+    def get_continuous_state_derivatives(self):
+        self.der_h, self.der_v = self.v, -self.g
+        return [self.der_h, self.der_v]
+
+    def get_event_indicators(self):
+        return [self.h]
+
+    def update_discrete_states(self):
+        return Fmi3UpdateDiscreteStatesResult(terminateSimulation=self.h <= 0.0)
+'''
+
 ROBERTSON3 = '''
 from pythonfmu3 import (Fmi3Causality, Fmi3Initial, Fmi3SlaveBase, Fmi3Variability, Float64,
                         ModelExchange)
@@ -280,7 +320,7 @@ class Robertson3(Fmi3SlaveBase, ModelExchange):
 '''
 
 PYTHONFMU3_SCRIPTS = {"Lag3": LAG3, "Oscillator3": OSCILLATOR3, "BouncingBall3": BOUNCING_BALL3,
-                      "Robertson3": ROBERTSON3}
+                      "Drop3": DROP3, "Robertson3": ROBERTSON3}
 PYTHONFMU3 = "pythonfmu3==0.3.4"
 
 
