@@ -288,7 +288,13 @@ def _fmpy_run(path: Path, interface: str, start: float, stop: float, step: float
 def _worker(argv: list[str]) -> int:
     """`--run CASE WHAT FMU OUT`: one run (WHAT: an importer or "reference"), its columns
     and what it said saved to OUT (.npz + .json); exceptions become a one-line message."""
+    import faulthandler
     import warnings
+    # before the parent's limit: the Python stack of a hang goes to stderr, then exit, so
+    # that the row can say where it hung (a native frame shows as its ctypes call)
+    dump_s = float(os.environ.get("FOREIGN_DUMP_S", "0"))
+    if dump_s > 0:
+        faulthandler.dump_traceback_later(dump_s, exit=True)
     name, what, path, out = argv
     case = next(c for c in CASES if c.name == name)
     path = Path(path)
@@ -317,6 +323,7 @@ def _worker(argv: list[str]) -> int:
                                for w in caught})
     np.savez(out + ".npz", **columns)
     Path(out + ".json").write_text(json.dumps(meta))
+    faulthandler.cancel_dump_traceback_later()
     return 0
 
 
@@ -325,17 +332,23 @@ def run_child(case: Case, what: str, path: Path, limit_s: float, work: Path) -> 
     out = str(work / f"{abs(hash((case.name, what)))}")
     cmd = [sys.executable, "-m", "benchmarks.foreign", "--run", case.name, what, str(path), out]
     started = time.perf_counter()
+    dump_s = 0.9 * limit_s if limit_s >= 10 else 0
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=limit_s,
-                              env={**os.environ, "PYTHONPATH": os.pathsep.join(
-                                  [str(Path(__file__).resolve().parent.parent),
-                                   os.environ.get("PYTHONPATH", "")])})
+                              env={**os.environ, "FOREIGN_DUMP_S": str(dump_s),
+                                   "PYTHONPATH": os.pathsep.join(
+                                       [str(Path(__file__).resolve().parent.parent),
+                                        os.environ.get("PYTHONPATH", "")])})
     except subprocess.TimeoutExpired:
         return {"status": "crash", "message": f"no answer within {limit_s:g} s (killed)",
                 "wall_s": limit_s}
     wall = time.perf_counter() - started
     if done.returncode != 0 or not Path(out + ".json").exists():
-        if done.returncode < 0:
+        frames = [line.strip() for line in done.stderr.splitlines()
+                  if line.startswith("  File ") and not line.startswith('  File "<')]
+        if "Timeout (" in done.stderr and frames:  # faulthandler: most recent call first
+            why = f"no answer within {dump_s:g} s; stopped in {frames[0]}"
+        elif done.returncode < 0:
             why = f"killed by {signal.Signals(-done.returncode).name}"
         else:
             tail = (done.stderr.strip().splitlines() or ["no message"])[-1]
