@@ -33,14 +33,7 @@ def test_the_quick_cases_span_tools_interfaces_and_fmi_versions(rows):
     assert {r["fmi"] for r in rows} == {"2.0", "3.0"}
 
 
-# engine defects the suite shows today (each marker goes when its fix lands: strict)
-KNOWN = {"Mass_Damper ME": "engine me: the first output row after the start keeps the output's "
-                           "start value (y = 0 at t = 1e-3, the state has moved: -2.5e-3)"}
-
-
-@pytest.mark.parametrize("name", [
-    pytest.param(c.name, marks=pytest.mark.xfail(reason=KNOWN[c.name], strict=True))
-    if c.name in KNOWN else c.name for c in QUICK])
+@pytest.mark.parametrize("name", [c.name for c in QUICK])
 def test_every_engine_run_agrees_with_its_reference_or_says_why_in_one_line(rows, name):
     """Per engine run: "pass" (error relative to the output's size within the stated
     accuracy: 100 x tolerance for ME, the scheme's tol for adaptive CS, round-off for
