@@ -181,13 +181,16 @@ class _Instance:
         except Exception as exc:  # pragma: no cover - reported after the step
             self.messages.append(f"recording the event at t = {t}: {exc}")
 
-    def enter_initialization(self, tolerance: float, stop_time: float) -> None:
+    def enter_initialization(self, tolerance: float) -> None:
+        # no stop time: event location probes an FMU with a tiny doStep past where it
+        # stands (fires_at_start), also at the end of the run, and an FMU must refuse to
+        # compute past a stop time it was given (fmi2SetupExperiment)
         if self.fmi_version == 2:
-            self.call("setup experiment", self.fmu.setupExperiment, tolerance, 0.0, stop_time)
+            self.call("setup experiment", self.fmu.setupExperiment, tolerance, 0.0, None)
             self.call("enter initialization", self.fmu.enterInitializationMode)
         else:
             self.call("enter initialization", self.fmu.enterInitializationMode,
-                      tolerance, 0.0, stop_time)
+                      tolerance, 0.0, None)
 
     def do_step(self, t: float, h: float) -> tuple[bool, float]:
         """doStep from `t` over `h`: (the model asks to terminate, time reached). A
@@ -501,7 +504,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             comp = inst.component
             for key, value in comp.fmu_starts().items():
                 inst.set(key, value)
-            inst.enter_initialization(tolerance, stop_time)
+            inst.enter_initialization(tolerance)
         master.consistent(0.0)
         for inst in instances.values():
             inst.call("exit initialization", inst.fmu.exitInitializationMode)
