@@ -18,13 +18,6 @@
 /* internal steps between two projections of how many more a doStep needs */
 #define PROGRESS_WINDOW 10000L
 #define DEFAULT_TOLERANCE 1e-8
-/* What an importer reads instead of an event indicator that is exactly 0 where Event
-   Mode left it: FMI 2.0 and 3.0 (fmi2/fmi3GetEventIndicators, Model Exchange API) say
-   the FMU must guarantee z_j != 0 at an event restart, "for example, by shifting z_j
-   with a small value". Far below any indicator's scale, and far enough above the
-   smallest double that an importer's product of two indicator values (CVODE's sign
-   test) does not underflow to zero. */
-#define INDICATOR_SHIFT 1e-100
 /* interior points of each internal step at which the event indicators are sampled, so
    that an indicator crossing twice inside one step (a slip shorter than the step)
    is still seen */
@@ -348,12 +341,13 @@ static int look_ahead(mf_instance *I)
 }
 
 /* The side on which an importer reads each indicator that is exactly 0 at an event
-   restart (INDICATOR_SHIFT). After an event that changed nothing it has only touched
-   zero: the side it came from, its kept reference, so that the importer still sees it
-   go across later, as this runtime does. After a change it starts afresh from zero
-   (a slide starting from rest): the side it leaves to, as this runtime's own crossing
-   test takes it (mf_locate_event), here from a look ahead along the derivatives; the
-   positive side where that look ahead stays at zero too. */
+   restart (MF_INDICATOR_SHIFT, events.h). After an event that changed nothing it has
+   only touched zero: the side it came from, its kept reference, so that the importer
+   still sees it go across later, as this runtime does. After a change it starts afresh
+   from zero (a slide starting from rest): the side it leaves to, as this runtime's own
+   crossing test takes it (mf_locate_event), here from a look ahead along the
+   derivatives; the positive side where that look ahead stays at zero too. Our engine
+   knows the shift and takes it for the zero it stands for (mf_at_zero). */
 static void restart_shifts(mf_instance *I, int changed)
 {
     const mf_model *m = I->m;
@@ -368,7 +362,7 @@ static void restart_shifts(mf_instance *I, int changed)
             if (probed < 0) probed = look_ahead(I);
             if (probed) side = I->z_work[i];
         }
-        I->z_shift[i] = side < 0.0 ? -INDICATOR_SHIFT : INDICATOR_SHIFT;
+        I->z_shift[i] = side < 0.0 ? -MF_INDICATOR_SHIFT : MF_INDICATOR_SHIFT;
     }
 }
 
