@@ -81,12 +81,13 @@ mf_status mf_setup_experiment(mf_instance *inst, const char *fn, int tolerance_d
    a relative tolerance bounds nothing. An assembly FMU checks the importer's the same. */
 #define MF_MIN_TOLERANCE 1e-14
 #define MF_MAX_TOLERANCE 1.0
-/* Whether a step ending at t_end goes past a defined stop time: beyond 1e-10 of it
-   (relative, absolute below 1), since an importer's t + h rounds (t + (stop - t) need
-   not be stop exactly). */
+/* Whether a step ending at t_end goes past a defined stop time: beyond 1e-9 of it
+   (relative, absolute below 1). An importer's t + h rounds (t + (stop - t) need not be
+   stop exactly), and fmpy takes a communication point within math.isclose's 1e-9 of
+   the stop time for the stop time itself. */
 static inline int mf_past_stop(double t_end, double stop)
 {
-    return t_end > stop + 1e-10 * fmax(1.0, fabs(stop));
+    return t_end > stop + 1e-9 * fmax(1.0, fabs(stop));
 }
 mf_status mf_enter_initialization_mode(mf_instance *inst, const char *fn);
 mf_status mf_exit_initialization_mode(mf_instance *inst, const char *fn);
