@@ -196,6 +196,33 @@ def test_a_component_restarts_off_zero_where_a_slip_begins(fmi):
     assert slip[0] > 0.0 and abs(slip[0]) < 1e-90
 
 
+def test_a_component_returning_early_at_its_slip_reads_its_indicators_off_zero():
+    """Co-Simulation, FMI 3 early return: the same block's doStep stops at each event;
+    the indicators read there as variables (after the FMU's own event iteration) are
+    not 0, the slip at t = 8 (mode * v = 0 exactly) included."""
+    path = build_fmu(SpringBlock(m=1, k=1, g=1, mu_k=0.3, mu_s=0.4), fmi_version=3)
+    messages = []
+    md, fmu = _open(path, "cs", 3, messages, earlyReturnAllowed=True)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    indicators = [vr[n] for n in vr if n.startswith("event_indicator")]
+    assert len(indicators) == 2
+    fmu.enterInitializationMode(startTime=0.0, stopTime=13.0)
+    fmu.exitInitializationMode()
+    t, events = 0.0, []
+    while t < 13.0 - 1e-12:
+        fmu.setFloat64([vr["flange_a.s"], vr["flange_a.v"], vr["flange_a.a"]],
+                       [0.05 * t, 0.05, 0.0])
+        # 0.7 s steps: the slip falls inside one (at a communication point it would be
+        # an input event, handled before the step)
+        _, _, early, reached = fmu.doStep(t, min(0.7, 13.0 - t))
+        t = reached
+        if early:
+            events.append((t, fmu.getFloat64(indicators)))
+    fmu.freeInstance()
+    assert any(abs(t - 8.0) < 1e-9 for t, _ in events), events
+    assert all(0.0 not in z for _, z in events), events
+
+
 # --- FMI 3 Step Mode: every variable reads -------------------------------------------
 
 def _read_all(fmu, md):
