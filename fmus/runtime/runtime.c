@@ -715,11 +715,8 @@ mf_status mf_setup_experiment(mf_instance *I, const char *fn, int tolerance_defi
     if (!I) return MF_ERROR;
     if (!allowed(I, fn, PH_INSTANTIATED, 0)) return MF_ERROR;
     /* all checked before any is stored, so a refused call changes nothing */
-    if (tolerance_defined &&
-        !(tolerance >= MF_MIN_TOLERANCE && tolerance <= MF_MAX_TOLERANCE)) {
-        log_error(I, "%s: tolerance %g is outside the allowed range [%g, %g] (a relative "
-                     "tolerance below %g asks for more digits than double precision carries)",
-                  fn, tolerance, MF_MIN_TOLERANCE, MF_MAX_TOLERANCE, MF_MIN_TOLERANCE);
+    if (tolerance_defined && !mf_tolerance_ok(tolerance)) {
+        log_error(I, MF_TOLERANCE_REFUSED, fn, tolerance);
         return MF_ERROR;
     }
     if (!isfinite(start_time)) {
@@ -1412,9 +1409,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         return MF_ERROR;
     }
     if (I->stop_defined && mf_past_stop(t_end, I->t_stop)) {
-        log_error(I, "%s: the step from t = %.17g by %g ends at %.17g, past the stop time "
-                     "%.17g the importer defined at initialization; the FMU does not compute "
-                     "past it", fn, I->t, h, t_end, I->t_stop);
+        log_error(I, MF_PAST_STOP, fn, I->t, h, t_end, I->t_stop);
         return MF_ERROR;
     }
     t_window = I->t;

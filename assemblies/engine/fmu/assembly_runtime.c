@@ -269,11 +269,8 @@ mf_status mf_setup_experiment(mf_instance *A, const char *fn, int tolerance_defi
     if (!A || !allowed(A, fn, INSTANTIATED, INSTANTIATED)) return MF_ERROR;
     /* the members' tolerances were chosen at export, so a valid one is not used; an
        invalid one is refused as a component FMU refuses it (runtime.c) */
-    if (tolerance_defined &&
-        !(tolerance >= MF_MIN_TOLERANCE && tolerance <= MF_MAX_TOLERANCE))
-        return ERROR(A, "%s: tolerance %g is outside the allowed range [%g, %g] (a relative "
-                     "tolerance below %g asks for more digits than double precision carries)",
-                     fn, tolerance, MF_MIN_TOLERANCE, MF_MAX_TOLERANCE, MF_MIN_TOLERANCE);
+    if (tolerance_defined && !mf_tolerance_ok(tolerance))
+        return ERROR(A, MF_TOLERANCE_REFUSED, fn, tolerance);
     if (!isfinite(start_time))
         return ERROR(A, "%s: start time %g is not finite", fn, start_time);
     if (stop_time_defined && !(isfinite(stop_time) && stop_time >= start_time))
@@ -444,9 +441,7 @@ mf_status mf_do_step(mf_instance *A, const char *fn, double t, double h, double 
         return ERROR(A, "%s: currentCommunicationPoint %.17g is not the time reached, %.17g "
                      "(the assembly cannot go back: canGetAndSetFMUState is false)", fn, t, now);
     if (A->stop_defined && mf_past_stop(t + h, A->stop_time))
-        return ERROR(A, "%s: the step from t = %.17g by %g ends at %.17g, past the stop time "
-                     "%.17g the importer defined at initialization; the FMU does not compute "
-                     "past it", fn, t, h, t + h, A->stop_time);
+        return ERROR(A, MF_PAST_STOP, fn, t, h, t + h, A->stop_time);
     if (has_terminated(A)) {
         if (terminate) *terminate = 1;
         return ERROR(A, "%s: a member ended the simulation at t = %g", fn, now);
