@@ -114,7 +114,8 @@ def test_assembly_indicators_are_never_zero_after_event_mode(exported, name, fmi
     # one restart is the initial one, where its sliding indicator (mode * v) starts at 0
     least = 1 if name == "speed_control" else 3
     assert len(restarts) >= least, f"{name}: the run went through {len(restarts)} events only"
-    assert not _zeros(restarts), f"{name}: indicators exactly 0 after Event Mode: {_zeros(restarts)[:3]}"
+    zeros = _zeros(restarts)
+    assert not zeros, f"{name}: indicators exactly 0 after Event Mode: {zeros[:3]}"
 
 
 def _euler_run(path, fmi, stop, dt, drive):
