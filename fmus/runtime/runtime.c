@@ -622,7 +622,8 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->g = dvec(model->n_c);
     I->dd = dvec((model->n_x + model->n_y) * (model->n_x + model->n_u));
     I->dd_nz = dvec(dd_nonzeros(model));
-    if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev || !I->z_shift || !I->ue ||
+    if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev ||
+        !I->z_shift || !I->ue ||
         !I->x_new || !I->q_new || !I->x_tmp || !I->z_work || !I->z_hit || !I->g || !I->dd ||
         !I->dd_nz)
         goto oom;
