@@ -192,16 +192,18 @@ class _Instance:
         except Exception as exc:  # pragma: no cover - reported after the step
             self.messages.append(f"recording the event at t = {t}: {exc}")
 
-    def enter_initialization(self, tolerance: float, stop_time: float,
-                             start_time: float = 0.0) -> None:
+    def enter_initialization(self, tolerance: float, start_time: float = 0.0) -> None:
+        # no stop time: event location probes an FMU with a tiny doStep past where it
+        # stands (fires_at_start), also at the end of the run, and an FMU must refuse to
+        # compute past a stop time it was given (fmi2SetupExperiment)
         self.step_start = start_time
         if self.fmi_version == 2:
             self.call("setup experiment", self.fmu.setupExperiment, tolerance, start_time,
-                      stop_time)
+                      None)
             self.call("enter initialization", self.fmu.enterInitializationMode)
         else:
             self.call("enter initialization", self.fmu.enterInitializationMode,
-                      tolerance, start_time, stop_time)
+                      tolerance, start_time, None)
 
     def do_step(self, t: float, h: float, final: bool = False) -> tuple[bool, float]:
         """doStep from `t` over `h`: (the model asks to terminate, time reached).
@@ -563,7 +565,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             comp = inst.component
             for key, value in comp.fmu_starts().items():
                 inst.set(key, value)
-            inst.enter_initialization(tolerance, stop_time, start_time)
+            inst.enter_initialization(tolerance, start_time)
         master.consistent(start_time)
         for inst in instances.values():
             inst.call("exit initialization", inst.fmu.exitInitializationMode)
@@ -609,7 +611,7 @@ def _restore_problem(name: str, component, tolerance: float, step: float) -> str
             return None
         for key, value in component.fmu_starts().items():
             probe.set(key, value)
-        probe.enter_initialization(tolerance, None)
+        probe.enter_initialization(tolerance)
         probe.call("exit initialization", probe.fmu.exitInitializationMode)
         names = [v for v in dict.fromkeys(probe.outputs + probe.states)
                  if probe.variables[v].type in ("Real", "Float64", "Integer", "Int32")]

@@ -181,6 +181,17 @@ def integrate(system: HybridSystem, y0: np.ndarray, stop_time: float, output_tim
     return rows, stats, None
 
 
+# What our FMUs report for an indicator that is exactly 0 at an event restart, on the
+# side it takes (MF_INDICATOR_SHIFT, fmus/runtime/events.h): a zero here too
+INDICATOR_SHIFT = 1e-100
+
+
+def _side(z: np.ndarray) -> np.ndarray:
+    """The side each indicator is on: +1, -1, or 0 at zero (a restart's shift included)."""
+    z = np.asarray(z, dtype=float)
+    return np.where(np.abs(z) == INDICATOR_SHIFT, 0.0, np.sign(z))
+
+
 class _Reference:
     """The domain (z > 0 or z <= 0) each indicator had where the phase began; an
     indicator that began exactly at zero takes the side it leaves zero to. Keeps the
@@ -188,14 +199,14 @@ class _Reference:
 
     def __init__(self, z: np.ndarray):
         self.z = np.asarray(z, dtype=float)
-        self.sign = np.sign(self.z)
+        self.sign = _side(self.z)
 
     def crossed(self, z: np.ndarray) -> np.ndarray:
         return ((self.sign > 0) & (z <= 0)) | ((self.sign < 0) & (z > 0))
 
     def adopt(self, z: np.ndarray) -> None:
         fresh = self.sign == 0
-        self.sign[fresh] = np.sign(z[fresh])
+        self.sign[fresh] = _side(z[fresh])
         self.z = z
 
 

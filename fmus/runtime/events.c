@@ -7,8 +7,11 @@
 #include <math.h>
 #include <string.h>
 
+int mf_at_zero(double z) { return z == 0.0 || fabs(z) == MF_INDICATOR_SHIFT; }
+
 int mf_crossed(double before, double after)
 {
+    if (mf_at_zero(before)) return 0;
     return (before > 0.0 && after <= 0.0) || (before < 0.0 && after >= 0.0);
 }
 
@@ -147,7 +150,7 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
            a crossing at ta again and again. On a line the signs at the ends tell all. */
         int crossed = 0;
         for (i = 0; i < n; i++) {
-            if (z_ref[i] == 0.0) z_ref[i] = z_b[i];
+            if (mf_at_zero(z_ref[i])) z_ref[i] = z_b[i];
             else if (mf_crossed(z_ref[i], z_b[i])) crossed = 1;
         }
         if (!crossed) return 0;
@@ -164,10 +167,11 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
     /* a zero reference takes the side the indicator leaves zero to: just after ta on
        the polynomial through zero and the samples, else the first nonzero sample */
     for (i = 0; i < n; i++) {
-        origin[i] = z_ref[i] == 0.0;
+        origin[i] = mf_at_zero(z_ref[i]);
         if (!origin[i]) continue;
+        z_ref[i] = 0.0;
         if (m >= 2) z_ref[i] = interpolate(m, theta, samples, n, i, 1, 0.25 / MF_DIP_GRID);
-        for (k = 0; k < m && z_ref[i] == 0.0; k++) z_ref[i] = samples[(size_t)k * n + i];
+        for (k = 0; k < m && mf_at_zero(z_ref[i]); k++) z_ref[i] = samples[(size_t)k * n + i];
     }
     for (k = 0; k < m && first_cross < 0; k++)
         for (i = 0; i < n; i++)
@@ -176,7 +180,7 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
     if (m >= 3) {
         double hi = first_cross < 0 ? 1.0 : (first_cross ? theta[first_cross - 1] : 0.0);
         for (i = 0; i < n; i++)
-            if (z_ref[i] != 0.0)
+            if (!mf_at_zero(z_ref[i]))
                 theta_hit = fmin(theta_hit, first_dip(m, theta, samples, n, i, origin[i] != 0.0,
                                                       z_ref[i] > 0.0 ? 1.0 : -1.0, hi));
     }
@@ -207,7 +211,7 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
         double t_root;
         if (!mf_crossed(z_ref[i], z_right[i])) continue;
         /* a zero start still at zero at t_left: use the side it took for the secant */
-        if (locate_one(z, ctx, n, i, t_left, z_left[i] != 0.0 ? z_left[i] : z_ref[i], t_hit,
+        if (locate_one(z, ctx, n, i, t_left, !mf_at_zero(z_left[i]) ? z_left[i] : z_ref[i], t_hit,
                        z_right[i], &t_root, z_tmp))
             return -1;
         if (t_root < t_hit) {

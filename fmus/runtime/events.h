@@ -17,8 +17,20 @@
 /* Indicators at time t inside the last accepted step; 0 on success. */
 typedef int (*mf_indicator_fn)(void *ctx, double t, double *z);
 
+/* What an importer reads for an event indicator that is exactly 0 where Event Mode left
+   it, on the side it takes (runtime.c): FMI 2.0 and 3.0 (fmi2/fmi3GetEventIndicators)
+   say the FMU must guarantee z_j != 0 at an event restart, "for example, by shifting z_j
+   with a small value". Far below any indicator's scale, and far enough above the
+   smallest double that an importer's product of two indicator values (CVODE's sign test)
+   does not underflow to zero. */
+#define MF_INDICATOR_SHIFT 1e-100
+
+/* Whether z is an indicator at zero: exactly 0, or a restart's MF_INDICATOR_SHIFT, which
+   the engine (an importer that knows the convention) takes for the zero it stands for. */
+int mf_at_zero(double z);
+
 /* The crossing rule: from the reference sign of `before` to zero or beyond. An
-   indicator whose reference is exactly zero never crosses. */
+   indicator whose reference is at zero (mf_at_zero) never crosses. */
 int mf_crossed(double before, double after);
 
 /* Scratch doubles mf_locate_event needs for n indicators and n_sub interior points. */
@@ -38,7 +50,7 @@ int mf_crossed(double before, double after);
  * polynomial is the indicator itself and no dip wider than 1/MF_DIP_GRID of the step
  * is missed. The earliest crossing is then bracketed by the Illinois method.
  *
- * A reference of exactly zero (an indicator restarting at zero after an event,
+ * A reference at zero (mf_at_zero: an indicator restarting at zero after an event,
  * e.g. a velocity reset to 0) takes the side the indicator leaves zero to: it is
  * replaced in z_ref by the first nonzero value sampled, and a crossing is counted
  * from there on. So a slip that starts at an event and ends inside the next step

@@ -86,10 +86,8 @@ void fmi2FreeInstance(fmi2Component c) { mf_free(INST(c)); }
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime)
 {
-    (void)stopTimeDefined; /* the FMU has no use for the stop time */
-    (void)stopTime;
     return ST(mf_setup_experiment(INST(c), "fmi2SetupExperiment", toleranceDefined, tolerance,
-                                  startTime));
+                                  startTime, stopTimeDefined, stopTime));
 }
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c)

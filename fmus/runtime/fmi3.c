@@ -103,11 +103,9 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
                                        fmi3Float64 tolerance, fmi3Float64 startTime,
                                        fmi3Boolean stopTimeDefined, fmi3Float64 stopTime)
 {
-    mf_status s;
-    (void)stopTimeDefined; /* the FMU has no use for the stop time */
-    (void)stopTime;
-    s = mf_setup_experiment(INST(instance), "fmi3EnterInitializationMode", toleranceDefined,
-                            tolerance, startTime);
+    mf_status s = mf_setup_experiment(INST(instance), "fmi3EnterInitializationMode",
+                                      toleranceDefined, tolerance, startTime, stopTimeDefined,
+                                      stopTime);
     if (s != MF_OK) return ST(s);
     return ST(mf_enter_initialization_mode(INST(instance), "fmi3EnterInitializationMode"));
 }

@@ -18,11 +18,6 @@
 /* internal steps between two projections of how many more a doStep needs */
 #define PROGRESS_WINDOW 10000L
 #define DEFAULT_TOLERANCE 1e-8
-/* The embedded solvers' error test compares differences of order rtol |x|: below
-   about 50 ulp (1e-14) rounding alone fails it and the step size collapses. Above 1
-   a relative tolerance bounds nothing. */
-#define MIN_TOLERANCE 1e-14
-#define MAX_TOLERANCE 1.0
 /* interior points of each internal step at which the event indicators are sampled, so
    that an indicator crossing twice inside one step (a slip shorter than the step)
    is still seen */
@@ -49,7 +44,6 @@ struct mf_instance {
     char *name;
     mf_host host;
     mf_interface iface;
-    int event_mode_used;
     unsigned log_mask;
 
     int phase;
@@ -61,6 +55,8 @@ struct mf_instance {
     double t;
     double t_start;
     double rtol;
+    int stop_defined;
+    double t_stop;
 
     double *x, *q, *p;
     double *u;      /* inputs as the importer set them, valid at t_u */
@@ -72,6 +68,8 @@ struct mf_instance {
     int y_valid, xdot_valid, z_valid;
 
     double *z_prev; /* indicators just after the last accepted point / event */
+    double *z_shift; /* what an importer reads for an indicator that is exactly 0: set
+                        at each event restart, 0 for those not at zero there */
     int event_changed; /* the last event iteration changed a state or a mode */
 
     /* scratch */
@@ -323,6 +321,59 @@ static int update_z(mf_instance *I, const char *fn)
 
 static int crossed(double before, double after) { return mf_crossed(before, after); }
 
+/* The indicators a first-order step ahead of the current point, along the derivatives,
+   into z_work: 1, or 0 where the model cannot be evaluated there. */
+static int look_ahead(mf_instance *I)
+{
+    const mf_model *m = I->m;
+    const double dt = 1.4901161193847656e-08 * fmax(1.0, fabs(I->t)); /* sqrt(eps) */
+    int j;
+    if (!I->xdot_valid) {
+        if (call(I, &m->ode, I->t, I->x, I->q, inputs_at(I, I->t), I->xdot, NULL) ||
+            !all_finite(I->xdot, m->n_x))
+            return 0;
+        I->xdot_valid = 1;
+    }
+    for (j = 0; j < m->n_x; j++) I->x_tmp[j] = I->x[j] + dt * I->xdot[j];
+    if (call(I, &m->zc, I->t + dt, I->x_tmp, I->q, inputs_at(I, I->t + dt), I->z_work, NULL))
+        return 0;
+    return all_finite(I->z_work, m->n_z);
+}
+
+/* The side on which an importer reads each indicator that is exactly 0 at an event
+   restart (MF_INDICATOR_SHIFT, events.h). After an event that changed nothing it has
+   only touched zero: the side it came from, its kept reference, so that the importer
+   still sees it go across later, as this runtime does. After a change it starts afresh
+   from zero (a slide starting from rest): the side it leaves to, as this runtime's own
+   crossing test takes it (mf_locate_event), here from a look ahead along the
+   derivatives; the positive side where that look ahead stays at zero too. Our engine
+   knows the shift and takes it for the zero it stands for (mf_at_zero). */
+static void restart_shifts(mf_instance *I, int changed)
+{
+    const mf_model *m = I->m;
+    int i, probed = -1;
+    for (i = 0; i < m->n_z; i++) {
+        double side = 0.0;
+        I->z_shift[i] = 0.0;
+        if (I->z[i] != 0.0) continue;
+        if (!changed && I->z_prev[i] != 0.0) {
+            side = I->z_prev[i];
+        } else {
+            if (probed < 0) probed = look_ahead(I);
+            if (probed) side = I->z_work[i];
+        }
+        I->z_shift[i] = side < 0.0 ? -MF_INDICATOR_SHIFT : MF_INDICATOR_SHIFT;
+    }
+}
+
+/* The indicators as an importer reads them: an exact 0 on the side of its restart. */
+static void shifted(const mf_instance *I, double *z)
+{
+    int i;
+    for (i = 0; i < I->m->n_z; i++)
+        if (z[i] == 0.0) z[i] = I->z_shift[i];
+}
+
 /* Applies `jump` until nothing changes, then takes the indicators at the new
    state as the reference for crossing detection (they may jump at events). */
 static mf_status event_iteration(mf_instance *I, const char *fn, int *x_changed)
@@ -381,6 +432,7 @@ static mf_status event_iteration(mf_instance *I, const char *fn, int *x_changed)
         if (I->z[i] == 0.0 && !changed_x && !changed_q) continue;
         I->z_prev[i] = I->z[i];
     }
+    restart_shifts(I, changed_x || changed_q);
     return MF_OK;
 }
 
@@ -410,7 +462,10 @@ static void set_start_values(mf_instance *I)
     I->failed = 0;
     I->terminate_reported = 0;
     I->phase = PH_INSTANTIATED;
+    I->stop_defined = 0;
+    I->t_stop = 0.0;
     if (m->n_z) memset(I->z_prev, 0, (size_t)m->n_z * sizeof(double));
+    if (m->n_z) memset(I->z_shift, 0, (size_t)m->n_z * sizeof(double));
     invalidate(I);
     solvers_reset(I);
 }
@@ -526,6 +581,12 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
                   token ? token : "(null)", model->instantiation_token);
         return NULL;
     }
+    if (iface == MF_CO_SIMULATION && event_mode_used) {
+        log_error(&tmp, "%s: eventModeUsed = true is refused: this FMU declares hasEventMode = "
+                        "false in its modelDescription.xml (its doStep handles every event "
+                        "itself); instantiate it with eventModeUsed = false", fn);
+        return NULL;
+    }
     defect = model_defect(model);
     if (defect) {
         log_error(&tmp, "%s: the compiled model '%s' is inconsistent: %s", fn, model->model_name,
@@ -538,7 +599,6 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->m = model;
     if (host) I->host = *host;
     I->iface = iface;
-    I->event_mode_used = event_mode_used;
     I->log_mask = logging_on ? ~0u : 0u;
     I->name = (char *)malloc(strlen(tmp.name) + 1);
     if (!I->name) goto oom;
@@ -552,6 +612,7 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->xdot = dvec(model->n_x);
     I->z = dvec(model->n_z);
     I->z_prev = dvec(model->n_z);
+    I->z_shift = dvec(model->n_z);
     I->ue = dvec(model->n_u);
     I->x_new = dvec(model->n_x);
     I->q_new = dvec(model->n_q);
@@ -561,7 +622,8 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->g = dvec(model->n_c);
     I->dd = dvec((model->n_x + model->n_y) * (model->n_x + model->n_u));
     I->dd_nz = dvec(dd_nonzeros(model));
-    if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev || !I->ue ||
+    if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev ||
+        !I->z_shift || !I->ue ||
         !I->x_new || !I->q_new || !I->x_tmp || !I->z_work || !I->z_hit || !I->g || !I->dd ||
         !I->dd_nz)
         goto oom;
@@ -607,7 +669,7 @@ void mf_free(mf_instance *I)
     mf_ros_free(&I->ros);
     free(I->name);
     free(I->x); free(I->q); free(I->p); free(I->u); free(I->y); free(I->xdot); free(I->z);
-    free(I->z_prev); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
+    free(I->z_prev); free(I->z_shift); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
     free(I->z_work); free(I->z_hit); free(I->g); free(I->dd); free(I->dd_nz);
     free((void *)I->arg); free(I->res); free(I->iw); free(I->w);
     free(I);
@@ -648,21 +710,27 @@ mf_status mf_unsupported(mf_instance *I, const char *fn, const char *what)
 }
 
 mf_status mf_setup_experiment(mf_instance *I, const char *fn, int tolerance_defined,
-                              double tolerance, double start_time)
+                              double tolerance, double start_time, int stop_time_defined,
+                              double stop_time)
 {
     if (!I) return MF_ERROR;
     if (!allowed(I, fn, PH_INSTANTIATED, 0)) return MF_ERROR;
-    /* both checked before either is stored, so a refused call changes nothing */
-    if (tolerance_defined && !(tolerance >= MIN_TOLERANCE && tolerance <= MAX_TOLERANCE)) {
-        log_error(I, "%s: tolerance %g is outside the allowed range [%g, %g] (a relative "
-                     "tolerance below %g asks for more digits than double precision carries)",
-                  fn, tolerance, MIN_TOLERANCE, MAX_TOLERANCE, MIN_TOLERANCE);
+    /* all checked before any is stored, so a refused call changes nothing */
+    if (tolerance_defined && !mf_tolerance_ok(tolerance)) {
+        log_error(I, MF_TOLERANCE_REFUSED, fn, tolerance);
         return MF_ERROR;
     }
     if (!isfinite(start_time)) {
         log_error(I, "%s: startTime must be finite, got %g", fn, start_time);
         return MF_ERROR;
     }
+    if (stop_time_defined && !(isfinite(stop_time) && stop_time >= start_time)) {
+        log_error(I, "%s: stopTime %g must be finite and not before startTime %g", fn,
+                  stop_time, start_time);
+        return MF_ERROR;
+    }
+    I->stop_defined = stop_time_defined != 0;
+    I->t_stop = stop_time_defined ? stop_time : 0.0;
     I->rtol = tolerance_defined ? tolerance : DEFAULT_TOLERANCE;
     I->t = I->t_start = I->t_u = start_time;
     invalidate(I);
@@ -713,8 +781,7 @@ mf_status mf_exit_initialization_mode(mf_instance *I, const char *fn)
     }
     I->inputs_changed = 0;
     solvers_reset(I);
-    if (I->iface == MF_CO_SIMULATION && !I->event_mode_used) I->phase = PH_STEP;
-    else I->phase = PH_EVENT;
+    I->phase = I->iface == MF_CO_SIMULATION ? PH_STEP : PH_EVENT;
     log_info(I, LOG_EVENTS, "%s: initialised at t = %.17g; now in %s", fn, I->t,
              phase_name(I->phase));
     return MF_OK;
@@ -787,6 +854,10 @@ static int get_value(mf_instance *I, const char *fn, const mf_variable *v, doubl
     case MF_COMPUTED:
         if (!I->y_valid && !update_y(I, fn)) return 0;
         *out = I->y[v->index];
+        /* the last n_z are the event indicators (FMI 3 variables), read as by
+           GetEventIndicators */
+        if (*out == 0.0 && v->index >= I->m->n_y - I->m->n_z)
+            *out = I->z_shift[v->index - (I->m->n_y - I->m->n_z)];
         return 1;
     }
     return 0;
@@ -987,15 +1058,13 @@ static int model_terminates(mf_instance *I, const char *fn)
 
 mf_status mf_enter_event_mode(mf_instance *I, const char *fn)
 {
-    int mask;
     if (!I) return MF_ERROR;
-    mask = I->iface == MF_MODEL_EXCHANGE ? PH_CONT : (I->event_mode_used ? PH_STEP : 0);
-    if (!mask) {
-        log_error(I, "%s: not allowed; this Co-Simulation instance was created with "
-                     "eventModeUsed = false and handles its events internally", fn);
+    if (I->iface != MF_MODEL_EXCHANGE) {
+        log_error(I, "%s: not allowed; this Co-Simulation FMU has no Event Mode "
+                     "(hasEventMode = false): its doStep handles its events itself", fn);
         return MF_ERROR;
     }
-    if (!allowed(I, fn, mask, 1)) return MF_ERROR;
+    if (!allowed(I, fn, PH_CONT, 1)) return MF_ERROR;
     I->phase = PH_EVENT;
     log_info(I, LOG_EVENTS, "%s: Event Mode at t = %.17g", fn, I->t);
     return MF_OK;
@@ -1127,6 +1196,7 @@ mf_status mf_get_event_indicators(mf_instance *I, const char *fn, double z[], si
         return MF_ERROR;
     if (!update_z(I, fn)) return MF_ERROR;
     if (n) memcpy(z, I->z, n * sizeof(double));
+    shifted(I, z);
     return MF_OK;
 }
 
@@ -1171,9 +1241,10 @@ mf_status mf_enter_step_mode(mf_instance *I, const char *fn)
         log_error(I, "%s: only for Co-Simulation; this is a Model Exchange instance", fn);
         return MF_ERROR;
     }
-    if (!allowed(I, fn, PH_EVENT, 1)) return MF_ERROR;
-    I->phase = PH_STEP;
-    return MF_OK;
+    /* Initialization Mode leads straight to Step Mode: there is no Event Mode to leave */
+    log_error(I, "%s: not allowed; this Co-Simulation FMU has no Event Mode (hasEventMode = "
+                 "false), it is in Step Mode from fmi3ExitInitializationMode on", fn);
+    return MF_ERROR;
 }
 
 static int rhs(void *ctx, double t, const double *x, double *xdot)
@@ -1336,6 +1407,10 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     if (!isfinite(t_end)) {
         log_error(I, "%s: t + communicationStepSize = %.17g + %g is not a finite time", fn,
                   I->t, h);
+        return MF_ERROR;
+    }
+    if (I->stop_defined && mf_past_stop(t_end, I->t_stop)) {
+        log_error(I, MF_PAST_STOP, fn, I->t, h, t_end, I->t_stop);
         return MF_ERROR;
     }
     t_window = I->t;
@@ -1591,7 +1666,7 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
 #define SNAP_MAGIC 0x4d465331u /* "MFS1" */
 enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED,
        S_METHOD, S_HGUESS_ROS, S_STIFF_IMPLICIT, S_STIFF_VOTES, S_STIFF_AGAINST, S_STIFF_SWITCHES,
-       S_STIFF_CHECK, S_DENSE_IMPLICIT, S_HEADER };
+       S_STIFF_CHECK, S_DENSE_IMPLICIT, S_STOP_DEFINED, S_TSTOP, S_HEADER };
 
 typedef struct {
     unsigned magic;
@@ -1603,7 +1678,7 @@ typedef struct {
 static size_t snap_len(const mf_model *m)
 {
     return (size_t)S_HEADER + (size_t)m->n_x + (size_t)m->n_q + (size_t)m->n_u + (size_t)m->n_p +
-           (size_t)m->n_z;
+           2 * (size_t)m->n_z;
 }
 
 static snapshot *snap_alloc(const mf_model *m)
@@ -1673,12 +1748,15 @@ mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
     d[S_STIFF_SWITCHES] = (double)I->stiff.switches;
     d[S_STIFF_CHECK] = (double)I->stiff.explicit_steps;
     d[S_DENSE_IMPLICIT] = I->dense_implicit;
+    d[S_STOP_DEFINED] = I->stop_defined;
+    d[S_TSTOP] = I->t_stop;
     d += S_HEADER;
     copy_block(d, I->x, m->n_x); d += m->n_x;
     copy_block(d, I->q, m->n_q); d += m->n_q;
     copy_block(d, I->u, m->n_u); d += m->n_u;
     copy_block(d, I->p, m->n_p); d += m->n_p;
-    copy_block(d, I->z_prev, m->n_z);
+    copy_block(d, I->z_prev, m->n_z); d += m->n_z;
+    copy_block(d, I->z_shift, m->n_z);
     *state = s;
     return MF_OK;
 }
@@ -1697,6 +1775,8 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     I->t_start = d[S_TSTART];
     I->rtol = d[S_RTOL];
     I->t_u = d[S_TU];
+    I->stop_defined = d[S_STOP_DEFINED] != 0.0;
+    I->t_stop = d[S_TSTOP];
     I->phase = (int)d[S_PHASE];
     I->inputs_changed = (int)d[S_INCHANGED];
     I->failed = (int)d[S_FAILED];
@@ -1707,7 +1787,8 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     copy_block(I->q, d, m->n_q); d += m->n_q;
     copy_block(I->u, d, m->n_u); d += m->n_u;
     copy_block(I->p, d, m->n_p); d += m->n_p;
-    copy_block(I->z_prev, d, m->n_z);
+    copy_block(I->z_prev, d, m->n_z); d += m->n_z;
+    copy_block(I->z_shift, d, m->n_z);
     solvers_reset(I);
     /* the controller history too, so that a restored run repeats bit for bit */
     I->solver.h_guess = s->d[S_HGUESS];

@@ -13,6 +13,7 @@
 #ifndef MECHFMU_RUNTIME_H
 #define MECHFMU_RUNTIME_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -64,12 +65,40 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
 void mf_free(mf_instance *inst);
 mf_status mf_set_debug_logging(mf_instance *inst, const char *fn, int logging_on,
                                size_t n_categories, const char *const categories[]);
-/* The experiment (relative tolerance of the embedded solver, start time) is set in
-   the Instantiated state, before Initialization Mode: FMI 2 has its own call for it
-   (fmi2SetupExperiment), FMI 3 passes it to fmi3EnterInitializationMode, whose
-   adapter calls both. Not calling it keeps the defaults (1e-8, the start of time). */
+/* The experiment (relative tolerance of the embedded solver, start time, stop time) is
+   set in the Instantiated state, before Initialization Mode: FMI 2 has its own call for
+   it (fmi2SetupExperiment), FMI 3 passes it to fmi3EnterInitializationMode, whose
+   adapter calls both. Not calling it keeps the defaults (1e-8, the start of time, no
+   stop time). A defined stop time is the end of the simulation: both standards say
+   an FMU returns an error when the importer tries to compute past it (fmi2SetupExperiment,
+   fmi3EnterInitializationMode), so a doStep ending after it is refused. */
 mf_status mf_setup_experiment(mf_instance *inst, const char *fn, int tolerance_defined,
-                              double tolerance, double start_time);
+                              double tolerance, double start_time, int stop_time_defined,
+                              double stop_time);
+
+/* The relative tolerances an FMU accepts: below about 50 ulp (1e-14) the embedded
+   solvers' error test is failed by rounding alone and the step size collapses; above 1
+   a relative tolerance bounds nothing. An assembly FMU checks the importer's the same,
+   with the same message (printf arguments: the function's name, the tolerance). */
+static inline int mf_tolerance_ok(double tolerance)
+{
+    return tolerance >= 1e-14 && tolerance <= 1.0;
+}
+#define MF_TOLERANCE_REFUSED                                                              \
+    "%s: tolerance %g is outside the allowed range [1e-14, 1] (a relative tolerance below " \
+    "1e-14 asks for more digits than double precision carries)"
+/* Whether a step ending at t_end goes past a defined stop time: beyond 1e-9 of it
+   (relative, absolute below 1). An importer's t + h rounds (t + (stop - t) need not be
+   stop exactly), and fmpy takes a communication point within math.isclose's 1e-9 of
+   the stop time for the stop time itself. */
+static inline int mf_past_stop(double t_end, double stop)
+{
+    return t_end > stop + 1e-9 * fmax(1.0, fabs(stop));
+}
+/* Its message (printf arguments: the function's name, t, h, t + h, the stop time). */
+#define MF_PAST_STOP                                                                       \
+    "%s: the step from t = %.17g by %g ends at %.17g, past the stop time %.17g the "        \
+    "importer defined at initialization; the FMU does not compute past it"
 mf_status mf_enter_initialization_mode(mf_instance *inst, const char *fn);
 mf_status mf_exit_initialization_mode(mf_instance *inst, const char *fn);
 mf_status mf_terminate(mf_instance *inst, const char *fn);

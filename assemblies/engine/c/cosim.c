@@ -743,8 +743,11 @@ static int enter_initialization(cosim *c, double t0)
 {
     const eng_cosim_spec *g = c->cfg;
     int i;
+    /* no stop time for the members (stop = start: none given): event location probes a
+       member with a tiny doStep past where it stands (fires_at_start), also at the end of
+       the run, and a member must refuse to compute past a stop time it was given */
     for (i = 0; i < g->n_instances; i++)
-        if (fmu_enter_initialization(c->fmus[i], g->tolerance, t0, g->stop_time) != FMU_OK)
+        if (fmu_enter_initialization(c->fmus[i], g->tolerance, t0, t0) != FMU_OK)
             return fmu_fail(c, i, "enter initialization", t0);
     return 0;
 }

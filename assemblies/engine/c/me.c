@@ -664,7 +664,7 @@ static int new_reference(me_master *M, double t, const double *x_before)
         for (j = M->x_off[i]; j < M->x_off[i + 1]; j++)
             if (x_before[j] != M->x[j]) moved = 1;
         for (j = M->z_off[i]; j < M->z_off[i + 1]; j++)
-            if (M->z_now[j] != 0.0 || moved) M->z_prev[j] = M->z_now[j];
+            if (!mf_at_zero(M->z_now[j]) || moved) M->z_prev[j] = M->z_now[j];
     }
     return 0;
 }

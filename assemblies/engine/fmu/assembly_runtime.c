@@ -51,6 +51,8 @@ struct mf_instance {
     int event_pending;    /* Event Mode entered: the next update runs the event iteration */
     double *z;            /* event indicators, for reading them as variables (FMI 3) */
     double start_time;
+    int stop_defined;     /* the importer's stop time, past which no doStep goes */
+    double stop_time;
     char resources[4096];
     asm_config cfg;
     eng_cosim *cosim;     /* the master, by cfg.mode */
@@ -261,14 +263,22 @@ mf_status mf_set_debug_logging(mf_instance *A, const char *fn, int logging_on,
 }
 
 mf_status mf_setup_experiment(mf_instance *A, const char *fn, int tolerance_defined,
-                              double tolerance, double start_time)
+                              double tolerance, double start_time, int stop_time_defined,
+                              double stop_time)
 {
-    (void)tolerance_defined; /* the members' tolerances were chosen at export */
-    (void)tolerance;
     if (!A || !allowed(A, fn, INSTANTIATED, INSTANTIATED)) return MF_ERROR;
+    /* the members' tolerances were chosen at export, so a valid one is not used; an
+       invalid one is refused as a component FMU refuses it (runtime.c) */
+    if (tolerance_defined && !mf_tolerance_ok(tolerance))
+        return ERROR(A, MF_TOLERANCE_REFUSED, fn, tolerance);
     if (!isfinite(start_time))
         return ERROR(A, "%s: start time %g is not finite", fn, start_time);
+    if (stop_time_defined && !(isfinite(stop_time) && stop_time >= start_time))
+        return ERROR(A, "%s: stop time %g must be finite and not before the start time %g", fn,
+                     stop_time, start_time);
     A->start_time = start_time;
+    A->stop_defined = stop_time_defined != 0;
+    A->stop_time = stop_time_defined ? stop_time : 0.0;
     return MF_OK;
 }
 
@@ -307,6 +317,7 @@ mf_status mf_reset(mf_instance *A, const char *fn)
         return ERROR(A, "%s: %s", fn, A->me || A->cosim ? master_message(A) : "out of memory");
     }
     A->start_time = 0.0;
+    A->stop_defined = 0;
     A->event_pending = 0;
     A->phase = INSTANTIATED;
     return MF_OK;
@@ -357,9 +368,13 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
         integrating = A->iface == MF_MODEL_EXCHANGE &&
                       (A->phase == EVENT_MODE || A->phase == CONTINUOUS);
         if (p->kind == ASM_INDICATOR) {
-            if (!integrating)
-                return ERROR(A, "%s: event indicators are read in Event or Continuous-Time "
-                             "Mode, not in the %s", fn, phase_names[A->phase]);
+            /* FMI 3 lets fmi3Get{VariableType} read every variable in Step Mode (the
+               Co-Simulation state machine, state Step Mode), indicators too: there they
+               are the members' at the point the engine reached */
+            if (!A->me || A->phase == INSTANTIATED || A->phase == INITIALIZATION)
+                return ERROR(A, "%s: event indicators are read once initialization is done "
+                             "(of an assembly of Model Exchange members), not in the %s", fn,
+                             phase_names[A->phase]);
             if (eng_me_indicators(A->me, A->z)) return engine_failed(A, fn);
             *f = A->z[p->member.vr];
             continue;
@@ -425,6 +440,8 @@ mf_status mf_do_step(mf_instance *A, const char *fn, double t, double h, double 
     if (!isfinite(t) || fabs(t - now) > 1e-9 * fmax(1.0, fabs(now)))
         return ERROR(A, "%s: currentCommunicationPoint %.17g is not the time reached, %.17g "
                      "(the assembly cannot go back: canGetAndSetFMUState is false)", fn, t, now);
+    if (A->stop_defined && mf_past_stop(t + h, A->stop_time))
+        return ERROR(A, MF_PAST_STOP, fn, t, h, t + h, A->stop_time);
     if (has_terminated(A)) {
         if (terminate) *terminate = 1;
         return ERROR(A, "%s: a member ended the simulation at t = %g", fn, now);
