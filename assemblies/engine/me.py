@@ -340,7 +340,11 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         plan.set_rest_groups(rest_groups(names, couplings, fmus))
         return plan
 
-    key = ("me", structure_key(assembly), None if record is None else tuple(record), fmi_version)
+    # the names set before initialisation shape the plan's start lists: an instance given
+    # `solver` in one run and not in the next needs a plan of its own
+    starts = tuple(tuple(c.fmu_starts()) for c in assembly.components.values())
+    key = ("me", structure_key(assembly), None if record is None else tuple(record), fmi_version,
+           starts)
     plan = _plan(key, build)
     _check_exact(jacobian, plan)
     _engine()  # compiled on a machine's first run: setup, like the FMUs

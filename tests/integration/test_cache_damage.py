@@ -24,6 +24,14 @@ from fmus import integrity
 from fmus.build import cached_library
 
 
+@pytest.fixture(autouse=True)
+def warnings_not_printed(monkeypatch):
+    """A repair is a CacheRepaired warning in Python: `mechfmu`'s main, run in-process by
+    other test files, leaves fmus.build.announce printing to stderr instead."""
+    import fmus.build
+    monkeypatch.setattr(fmus.build, "announce", None)
+
+
 def truncate(path: Path, keep: float = 0.4) -> None:
     data = path.read_bytes()
     path.write_bytes(data[:int(len(data) * keep)])
