@@ -1328,6 +1328,16 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         log_error(I, "%s: communicationStepSize must be finite and > 0, got %g", fn, h);
         return MF_ERROR;
     }
+    if (I->terminate_reported && model_terminates(I, fn)) {
+        /* the importer has been told (FMI 2: Discard with fmi2Terminated true; FMI 3:
+           terminateSimulation): both standards allow no step after that, and a silent
+           repeat of the first answer leaves a master looping without a reason */
+        log_error(I, "%s: the model ended the simulation at t = %.17g (%s); no step can "
+                     "follow: terminate, reset or free the instance", fn, I->t,
+                  m->terminate_message ? m->terminate_message : "its terminate condition");
+        if (terminate) *terminate = 1;
+        return MF_ERROR;
+    }
     if (model_terminates(I, fn)) {
         if (terminate) *terminate = 1;
         return MF_OK; /* stays where the model ended it */
