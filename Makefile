@@ -2,7 +2,7 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: demo test
+.PHONY: demo test asan
 
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
@@ -19,3 +19,22 @@ demo: $(VENV)/.installed
 test: $(VENV)/.installed
 	$(PY) -m pytest -q -n auto --dist loadfile; rc=$$?; \
 	if [ $$rc -eq 5 ]; then echo "pytest collected no tests: failing"; exit 1; fi; exit $$rc
+
+# the FMU, engine, assembly-FMU and fuzz tests with every library mechfmu compiles built
+# with AddressSanitizer + UBSan (MECHFMU_SANITIZE=1: fmus/build.py), the ASan runtime
+# preloaded into Python (ctypes loads the libraries), leaks checked at each process's
+# exit; then benchmarks/sanitizer_reports.py counts the reports (0 of each to pass)
+SANITIZER_LOGS ?= /tmp/mechfmu-sanitizers
+ASAN_TESTS := tests/integration/test_fmu_api.py tests/integration/test_fmu_steps.py \
+	tests/integration/test_fmu_state.py tests/integration/test_engine_cosim.py \
+	tests/integration/test_engine_me.py tests/integration/test_engine_guards.py \
+	tests/integration/test_assembly_fmu.py tests/integration/test_hostile_assembly_fmu.py \
+	tests/integration/test_fuzz.py
+asan: $(VENV)/.installed
+	rm -rf $(SANITIZER_LOGS) && mkdir -p $(SANITIZER_LOGS)
+	MECHFMU_SANITIZE=1 LD_PRELOAD=$$(gcc -print-file-name=libasan.so) \
+	ASAN_OPTIONS=detect_leaks=1:log_path=$(SANITIZER_LOGS)/asan \
+	LSAN_OPTIONS=exitcode=0 \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(SANITIZER_LOGS)/ubsan \
+	$(PY) -m pytest -q -n auto --dist loadfile $(ASAN_TESTS); rc=$$?; \
+	$(PY) -m benchmarks.sanitizer_reports $(SANITIZER_LOGS) || rc=1; exit $$rc
