@@ -3,8 +3,8 @@
 usage: python -m benchmarks.sanitizer_reports LOG_FOLDER
 
 The sanitized runs write one log per process into LOG_FOLDER (ASAN_OPTIONS and
-UBSAN_OPTIONS log_path). Every AddressSanitizer error and every UBSan "runtime error"
-counts. Leaks are checked at each process's exit, and Python's interpreter, numpy and
+UBSAN_OPTIONS log_path). Every AddressSanitizer error (also a failed internal CHECK,
+which ends the process as an error does) and every UBSan "runtime error" counts. Leaks are checked at each process's exit, and Python's interpreter, numpy and
 lxml keep memory until the process dies by design: a leak counts only when the caller of
 the allocator (frame #1) is mechfmu's C code (the runtime, the engine, the assembly FMU
 or a generated model: compiled with -g from fmus/runtime, assemblies/engine or a
@@ -26,7 +26,7 @@ def classify(text: str) -> dict[str, list[str]]:
     """{"asan": reports, "ubsan": reports, "leaks": our leak records} of one log."""
     found = {"asan": [], "ubsan": [], "leaks": []}
     for block in re.split(r"\n(?==+\n==\d+==ERROR)", text):
-        if "ERROR: AddressSanitizer" in block:
+        if "ERROR: AddressSanitizer" in block or "AddressSanitizer: CHECK failed" in block:
             found["asan"].append(block.strip())
     found["ubsan"] += [line for line in text.splitlines() if "runtime error:" in line]
     for record in re.split(r"\n(?=(?:Direct|Indirect) leak of )", text):
