@@ -102,7 +102,7 @@ int eng_budget_spend(eng_budget *b, double t, double target, char *why, size_t l
     if (b->steps % ENG_BUDGET_WINDOW) return 0;
     pace = (t - b->t_window) / (double)ENG_BUDGET_WINDOW;
     needed = pace > 0.0 ? (target - t) / pace : HUGE_VAL;
-    if ((double)b->steps + needed > (double)b->max_steps) {
+    if (needed > ENG_BUDGET_SLACK * (double)(b->max_steps - b->steps)) {
         snprintf(why, len, "t = %.17g cannot be reached from t = %.17g within %ld steps: the "
                  "last %ld advanced %g s, so the rest needs about %.3g; ask for a shorter "
                  "interval", target, t, b->max_steps, ENG_BUDGET_WINDOW, t - b->t_window, needed);

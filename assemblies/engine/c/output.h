@@ -40,9 +40,11 @@ int eng_progress_check(eng_progress *p, double t);
 
 /* The step budget of one call that advances time: at most max_steps steps, and every
    ENG_BUDGET_WINDOW steps a pace check that refuses at once when the last window's
-   pace projects more steps to the target than the budget has left (a request that
-   cannot be finished fails in bounded time, not after max_steps). */
+   pace projects more than ENG_BUDGET_SLACK times the steps the budget has left (a
+   request that cannot be finished fails in bounded time, not after max_steps; the
+   slack spares a run whose first steps are short and whose later ones grow). */
 #define ENG_BUDGET_WINDOW 1000L
+#define ENG_BUDGET_SLACK 100.0
 typedef struct {
     long steps, max_steps;
     double t_window;  /* the time reached at the start of the current window */
