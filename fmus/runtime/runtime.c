@@ -1857,7 +1857,7 @@ mf_status mf_deserialize_state(mf_instance *I, const char *fn, const unsigned ch
     if (!all_finite(s->d, (int)s->n) ||
         !(s->d[S_PHASE] >= 1 && s->d[S_PHASE] <= PH_TERMINATED) ||
         ((int)s->d[S_PHASE] & ((int)s->d[S_PHASE] - 1))) {
-        free(s);
+        snap_release(s); /* out of the instance's list too, or FreeInstance frees it again */
         log_error(I, "%s: the serialized state is corrupt", fn);
         return MF_ERROR;
     }

@@ -35,6 +35,10 @@ for version in (2, 3):
     blob = fmu.serializeFMUState(state)
     fmu.freeFMUState(state)
     fmu.deserializeFMUState(blob)  # nor this one
+    try:  # a corrupt one is refused, and not freed twice by FreeInstance
+        fmu.deserializeFMUState(blob[:-8] + b"\xff" * 8)
+    except Exception:
+        pass
     fmu.freeInstance()
 print("done")
 '''
