@@ -36,11 +36,17 @@ class StepController:
         if not (math.isfinite(tol) and tol > 0):
             raise ValueError(f"adaptive tolerance must be a positive finite number, not {tol}")
         self.tol, self.order, self.horizon, self.h_max = tol, order, horizon, h_max
-        self.h_min = 1e-12 * horizon
         self.accepted = 0
         self.rejected = 0
         self.rejected_last = False  # the last judged step was rejected
         self.max_ratio = 0.0  # largest accepted estimate / allowed, a self-check for reports
+
+    @staticmethod
+    def min_step(t: float) -> float:
+        """The shortest step at time t: what time resolves there (the solvers' and the C
+        engine's MF_MIN_STEP), not a share of the horizon, which refused the short steps
+        a friction onset needs late in a long run (1e-12 x 1e4 s)."""
+        return 1e-14 * max(1.0, abs(t))
 
     def estimate(self, coarse: np.ndarray, fine: np.ndarray) -> float:
         """Error of `fine` (two half steps) from its difference to `coarse` (one step)."""

@@ -843,13 +843,14 @@ class _Stepper:
         fine = m.state_vector()
         ok, self.h = ctrl.judge(ctrl.estimate(coarse, fine), h_try,
                                 ctrl.noise(fine, self.tolerance), defect, defect_order)
+        if not ok and h_try <= ctrl.min_step(t):  # rejected at the shortest step there is
+            raise SimulationError(f"adaptive step fell below {ctrl.min_step(t):.3g} s at t = "
+                                  f"{t:g} (tol {ctrl.tol:g} cannot be met)")
         if ok:
             self.steps += 1
         else:
             m.restore(self.snap)
-        if self.h < ctrl.h_min:
-            raise SimulationError(f"adaptive step fell below {ctrl.h_min:.3g} s at t = {t:g} "
-                                  f"(tol {ctrl.tol:g} cannot be met)")
+        self.h = max(self.h, ctrl.min_step(t))
         return ok, h_try
 
     def _advance(self, h_try: float, target: float) -> None:

@@ -51,6 +51,9 @@ struct mf_instance {
        simulation can go on from, so only inspection and recovery are allowed */
     int failed;
     int terminate_reported; /* the model's terminate message was logged */
+    /* the FMU states this instance made that the importer has not freed: freeing the
+       instance frees them ("all the allocated memory", FMI 2 and 3 FreeInstance) */
+    struct snapshot *states;
 
     double t;
     double t_start;
@@ -662,9 +665,12 @@ oom:
     return NULL;
 }
 
+static void snap_release(struct snapshot *s);
+
 void mf_free(mf_instance *I)
 {
     if (!I) return;
+    while (I->states) snap_release(I->states);
     mf_dopri_free(&I->solver);
     mf_ros_free(&I->ros);
     free(I->name);
@@ -1399,6 +1405,16 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         log_error(I, "%s: communicationStepSize must be finite and > 0, got %g", fn, h);
         return MF_ERROR;
     }
+    if (I->terminate_reported && model_terminates(I, fn)) {
+        /* the importer has been told (FMI 2: Discard with fmi2Terminated true; FMI 3:
+           terminateSimulation): both standards allow no step after that, and a silent
+           repeat of the first answer leaves a master looping without a reason */
+        log_error(I, "%s: the model ended the simulation at t = %.17g (%s); no step can "
+                     "follow: terminate, reset or free the instance", fn, I->t,
+                  m->terminate_message ? m->terminate_message : "its terminate condition");
+        if (terminate) *terminate = 1;
+        return MF_ERROR;
+    }
     if (model_terminates(I, fn)) {
         if (terminate) *terminate = 1;
         return MF_OK; /* stays where the model ended it */
@@ -1668,9 +1684,11 @@ enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_
        S_METHOD, S_HGUESS_ROS, S_STIFF_IMPLICIT, S_STIFF_VOTES, S_STIFF_AGAINST, S_STIFF_SWITCHES,
        S_STIFF_CHECK, S_DENSE_IMPLICIT, S_STOP_DEFINED, S_TSTOP, S_HEADER };
 
-typedef struct {
+typedef struct snapshot {
     unsigned magic;
     const mf_model *model;
+    mf_instance *owner;             /* the instance whose list holds it */
+    struct snapshot *prev, *next;
     size_t n;
     double d[1];
 } snapshot;
@@ -1681,15 +1699,28 @@ static size_t snap_len(const mf_model *m)
            2 * (size_t)m->n_z;
 }
 
-static snapshot *snap_alloc(const mf_model *m)
+static snapshot *snap_alloc(mf_instance *I)
 {
-    size_t n = snap_len(m);
+    size_t n = snap_len(I->m);
     snapshot *s = (snapshot *)calloc(1, sizeof(snapshot) + n * sizeof(double));
     if (!s) return NULL;
     s->magic = SNAP_MAGIC;
-    s->model = m;
+    s->model = I->m;
     s->n = n;
+    s->owner = I;
+    s->next = I->states;
+    if (I->states) I->states->prev = s;
+    I->states = s;
     return s;
+}
+
+static void snap_release(snapshot *s)
+{
+    if (s->prev) s->prev->next = s->next;
+    else s->owner->states = s->next;
+    if (s->next) s->next->prev = s->prev;
+    s->magic = 0;
+    free(s);
 }
 
 static const snapshot *snap_check(const mf_instance *I, const char *fn, const void *state)
@@ -1724,7 +1755,7 @@ mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
         if (!snap_check(I, fn, *state)) return MF_ERROR;
         s = (snapshot *)*state;
     } else {
-        s = snap_alloc(m);
+        s = snap_alloc(I);
         if (!s) {
             log_error(I, "%s: out of memory", fn);
             return MF_ERROR;
@@ -1809,8 +1840,7 @@ mf_status mf_free_state(mf_instance *I, const char *fn, void **state)
     if (!I) return MF_ERROR;
     if (!state || !*state) return MF_OK;
     if (!snap_check(I, fn, *state)) return MF_ERROR;
-    ((snapshot *)*state)->magic = 0;
-    free(*state);
+    snap_release((snapshot *)*state);
     *state = NULL;
     return MF_OK;
 }
@@ -1897,7 +1927,7 @@ mf_status mf_deserialize_state(mf_instance *I, const char *fn, const unsigned ch
         log_error(I, "%s: the serialized state has the wrong length", fn);
         return MF_ERROR;
     }
-    s = snap_alloc(I->m);
+    s = snap_alloc(I);
     if (!s) {
         log_error(I, "%s: out of memory", fn);
         return MF_ERROR;
@@ -1908,7 +1938,7 @@ mf_status mf_deserialize_state(mf_instance *I, const char *fn, const unsigned ch
     if (!all_finite(s->d, (int)s->n) ||
         !(s->d[S_PHASE] >= 1 && s->d[S_PHASE] <= PH_TERMINATED) ||
         ((int)s->d[S_PHASE] & ((int)s->d[S_PHASE] - 1))) {
-        free(s);
+        snap_release(s); /* out of the instance's list too, or FreeInstance frees it again */
         log_error(I, "%s: the serialized state is corrupt", fn);
         return MF_ERROR;
     }

@@ -16,6 +16,11 @@
 
 #include "instances.h"
 #include "output.h"
+#include "solver.h" /* MF_MIN_STEP: the shortest step time can resolve */
+
+/* Coupled steps per call that advances time (per output interval of a run, per doStep
+   of an assembly FMU): each is several member doSteps, each with its own budget. */
+#define MAX_COUPLED_STEPS 1000000L
 
 #define HISTORY 3             /* points kept per held input: enough for order 2 */
 
@@ -42,9 +47,11 @@ typedef struct {
     double t;
 } snapshot;
 
-/* Step controller of adaptive.py: error per unit step, exponent 1/p. */
+/* Step controller of adaptive.py: error per unit step, exponent 1/p. Its shortest step
+   is MF_MIN_STEP(t), the time's resolution where it stands: one relative to the
+   horizon (1e-12 x 1e4 s) refused the steps a friction onset needs late in a long run. */
 typedef struct {
-    double tol, horizon, h_max, h_min;
+    double tol, horizon, h_max;
     int order;
 } controller;
 
@@ -824,7 +831,6 @@ static void start_stepping(cosim *c, double t0, double horizon)
     c->ctl.tol = g->tol;
     c->ctl.horizon = horizon;
     c->ctl.h_max = g->step;
-    c->ctl.h_min = 1e-12 * horizon;
     c->ctl.order = g->extrapolation == 0 ? 1 : 2;
     c->h = g->adaptive ? g->step / 4 : g->step;
 }
@@ -836,7 +842,7 @@ static int one_step(cosim *c, double target)
 {
     const eng_cosim_spec *g = c->cfg;
     const int rollback = g->adaptive || g->event_sync;
-    const double t = c->t, eps_t = 1e-12 * fmax(1.0, fabs(target));
+    const double t = c->t, eps_t = eng_time_slack(t, target);
     double h_try = g->adaptive ? c->h : target - t;
     int at_event = 0, ok = 1, i;
 
@@ -845,6 +851,12 @@ static int one_step(cosim *c, double target)
     if (g->adaptive && (t + h_try > target
                         || (target - (t + h_try) < 0.25 * h_try && !c->rejected_last)))
         h_try = target - t;
+    /* no adaptive step shorter than time resolves where it stands (at 1e15 s a double
+       moves in 0.125 s steps) */
+    if (g->adaptive && h_try < MF_MIN_STEP(t)) h_try = fmin(MF_MIN_STEP(t), target - t);
+    if (!(t + h_try > t)) /* a step that does not move time would be taken forever */
+        return fail(c, "a step of %g s cannot move time from t = %.17g (below its resolution "
+                    "there)", h_try, t);
 
     if (rollback && save(c, &c->snap[0], t)) return -1;
     for (;;) { /* the (coarse) step, shortened to end at the first event inside it */
@@ -918,11 +930,11 @@ static int one_step(cosim *c, double target)
             }
             error /= (double)((1 << c->ctl.order) - 1);
             ok = judge(c, &c->ctl, error, noise, defect, defect_order, h_try, &h_next);
-            if (!ok && restore(c, &c->snap[0])) return -1;
-            c->h = h_next;
-            if (c->h < c->ctl.h_min)
+            if (!ok && h_try <= MF_MIN_STEP(t)) /* rejected at the shortest step there is */
                 return fail(c, "adaptive step fell below %.3g s at t = %g (tol %g cannot be met)",
-                            c->ctl.h_min, t, g->tol);
+                            MF_MIN_STEP(t), t, g->tol);
+            if (!ok && restore(c, &c->snap[0])) return -1;
+            c->h = fmax(h_next, MF_MIN_STEP(t));
         }
     } else {
         c->run_stats->steps++;
@@ -979,7 +991,9 @@ static int run(cosim *c, eng_progress *progress)
     const int width = 1 + g->n_columns;
     const double *out_times = g->times + 1;
     const long n_out = g->n_times - 1;
-    long k = 0;
+    long k = 0, k_budget = -1;
+    eng_budget budget;
+    char why[256];
 
     const double t0 = g->times[0];
 
@@ -1005,6 +1019,12 @@ static int run(cosim *c, eng_progress *progress)
             }
             continue;
         }
+        if (k != k_budget) { /* a new output interval: a fresh budget */
+            eng_budget_start(&budget, MAX_COUPLED_STEPS, c->t);
+            k_budget = k;
+        }
+        if (eng_budget_spend(&budget, c->t, target, why, sizeof why))
+            return fail(c, "co-simulation: %s", why);
         moved = one_step(c, target);
         if (moved < 0) return -1;
         if (moved) { /* rows sampled after the event's new time are sampled again */
@@ -1145,12 +1165,26 @@ int eng_cosim_exit_initialization(eng_cosim *m)
 int eng_cosim_advance(eng_cosim *m, double target)
 {
     cosim *c = &m->c;
-    const double eps_t = 1e-12 * fmax(1.0, fabs(target));
+    const double eps_t = eng_time_slack(c->t, target);
     int probes = 0;
+    eng_budget budget;
+    char why[256];
     if (m->stats.status == ENG_FAILED) return ENG_FAILED;
+    /* refused at once when even the longest steps (the export's step) are too many */
+    if (c->cfg->adaptive && (target - c->t) / c->ctl.h_max > (double)MAX_COUPLED_STEPS) {
+        fail(c, "t = %.17g is %.3g steps of at most %g s (the exported communication step) "
+             "from t = %.17g, more than the %ld allowed per doStep; ask for shorter steps",
+             target, (target - c->t) / c->ctl.h_max, c->ctl.h_max, c->t, MAX_COUPLED_STEPS);
+        return m->stats.status = ENG_FAILED;
+    }
+    eng_budget_start(&budget, MAX_COUPLED_STEPS, c->t);
     c->have_prev = 0;
     while (!c->terminated) {
         if (c->t < target - eps_t) {
+            if (eng_budget_spend(&budget, c->t, target, why, sizeof why)) {
+                fail(c, "%s", why);
+                return m->stats.status = ENG_FAILED;
+            }
             if (one_step(c, target) < 0) return m->stats.status = ENG_FAILED;
             continue;
         }

@@ -80,8 +80,11 @@ eng_jacobian *eng_jacobian_plan(const eng_me_spec *s, const int *x_off)
         p->seed = calloc((size_t)room + 1, sizeof(double));
         p->sens = calloc((size_t)room + 1, sizeof(double));
         if (!p->known_vr || !p->unknown_vr || !p->seed || !p->sens) goto refuse;
-        memcpy(p->known_vr, in->state_vr, (size_t)p->n_x * sizeof(uint32_t));
-        memcpy(p->unknown_vr, in->derivative_vr, (size_t)p->n_x * sizeof(uint32_t));
+        if (p->n_x > 0) { /* a stateless member has no state arrays (NULL): memcpy
+                             from NULL is undefined even for 0 bytes */
+            memcpy(p->known_vr, in->state_vr, (size_t)p->n_x * sizeof(uint32_t));
+            memcpy(p->unknown_vr, in->derivative_vr, (size_t)p->n_x * sizeof(uint32_t));
+        }
         p->n_known = p->n_unknown = p->n_x;
     }
     for (k = 0; k < nc; k++) {

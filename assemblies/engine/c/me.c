@@ -28,6 +28,9 @@
 
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_EVENTS 1000000L
+/* integrator steps (and time events) per call that advances time: a whole run, or one
+   doStep of an assembly FMU; as many as a component FMU's doStep may take */
+#define MAX_STEPS 10000000L
 
 /* The couplings one kind of evaluation sets, in order (plan_couplings): live[p],
    p < n_live; the arrays below are by p. */
@@ -454,8 +457,13 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
             return 0;
         }
     }
-    if (r == MF_DOPRI_RHS_FAILED && M->message[0])
-        return fail(M, "the solver cannot go on from t = %.10g: %.900s", *t, M->message);
+    if (r == MF_DOPRI_RHS_FAILED && M->message[0]) {
+        /* the member's reason is in M->message, which fail() writes: copied first, as
+           vsnprintf from a buffer into itself is undefined (and garbled the line) */
+        char why[sizeof M->message];
+        snprintf(why, sizeof why, "%s", M->message);
+        return fail(M, "the solver cannot go on from t = %.10g: %.900s", *t, why);
+    }
     /* a non-finite derivative inside a step is mostly a trial step that overshot: an
        explicit method on a stiff coupling; say that before blaming the user's values */
     if (r == MF_DOPRI_RHS_FAILED)
@@ -815,12 +823,19 @@ static int advance(me_master *M, double target, eng_progress *progress)
     }
     /* an importer's communication points carry round-off (0.5 + 0.1 against 6 * 0.1):
        a sliver short of the target is the target, not a step of 1e-16 s */
-    const double eps_t = 1e-12 * fmax(1.0, fabs(target));
+    const double eps_t = eng_time_slack(t, target);
+    eng_budget budget;
+    char why[256];
 
+    eng_budget_start(&budget, MAX_STEPS, t);
     while (t < target - eps_t && !M->terminate) {
         double bound = M->next_defined && M->t_next < target ? M->t_next : target;
         double t_old = t, t_event;
         int found, step_event;
+        /* time events count too: a member whose next time event stays at t would
+           otherwise hold the loop here */
+        if (eng_budget_spend(&budget, t, target, why, sizeof why))
+            return fail(M, "the integrator: %s", why);
         if (t >= bound) { /* a time event is due now */
             clear_groups(M);
             if (handle_event(M, t)) return -1;
@@ -833,6 +848,9 @@ static int advance(me_master *M, double target, eng_progress *progress)
            target's row was lost with that sliver */
         if (t + h_max < bound)
             bound = bound == target && t + h_max >= target - eps_t ? target : t + h_max;
+        if (!(bound > t))
+            return fail(M, "the step to t = %.17g cannot move time from t = %.17g (the step "
+                           "limit %g s is below its resolution there)", bound, t, h_max);
         if (s->rest_group) memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;

@@ -1,9 +1,11 @@
 /*
- * output.c: event tables and the progress throttle.
+ * output.c: event tables, the progress throttle and the time loops' guards.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "output.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -80,4 +82,37 @@ int eng_progress_check(eng_progress *p, double t)
     if (now < p->next_wall) return 0;
     p->next_wall = now + PROGRESS_INTERVAL_S;
     return p->fn(p->ctx, t) != 0;
+}
+
+void eng_budget_start(eng_budget *b, long max_steps, double t)
+{
+    b->steps = 0;
+    b->max_steps = max_steps;
+    b->t_window = t;
+}
+
+int eng_budget_spend(eng_budget *b, double t, double target, char *why, size_t len)
+{
+    double pace, needed;
+    if (++b->steps > b->max_steps) {
+        snprintf(why, len, "more than %ld steps without reaching t = %.17g (reached t = %.17g)",
+                 b->max_steps, target, t);
+        return -1;
+    }
+    if (b->steps % ENG_BUDGET_WINDOW) return 0;
+    pace = (t - b->t_window) / (double)ENG_BUDGET_WINDOW;
+    needed = pace > 0.0 ? (target - t) / pace : HUGE_VAL;
+    if (needed > ENG_BUDGET_SLACK * (double)(b->max_steps - b->steps)) {
+        snprintf(why, len, "t = %.17g cannot be reached from t = %.17g within %ld steps: the "
+                 "last %ld advanced %g s, so the rest needs about %.3g; ask for a shorter "
+                 "interval", target, t, b->max_steps, ENG_BUDGET_WINDOW, t - b->t_window, needed);
+        return -1;
+    }
+    b->t_window = t;
+    return 0;
+}
+
+double eng_time_slack(double from, double target)
+{
+    return fmin(1e-12 * fmax(1.0, fabs(target)), 1e-3 * fabs(target - from));
 }

@@ -1,15 +1,29 @@
 /*
  * assembly_config.c: reads resources/assembly.txt (see assembly_config.h).
+ *
+ * The file is input, not code: whoever made the FMU may have written anything into it.
+ * Every count is bounded by what the rest of the file can hold before anything is
+ * allocated, every number by the range its master can run, every value reference that
+ * indexes an array of this FMU by that array's size, and every name that becomes a
+ * path or a symbol is a plain name whose folder lies inside the FMU's resources/.
  */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "assembly_config.h"
 
+#include <limits.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define MAX_NAME 200          /* an instance name or model identifier */
+#define MAX_TOKEN 1000        /* an instantiation token */
+#define MAX_TOTAL (1L << 24)  /* states or indicators of all members together */
+
 typedef struct {
     char *at;             /* next unread character */
+    const char *end;      /* the terminating '\0' of the text */
     const char *section;  /* for messages */
     int failed;
     char *err;
@@ -67,6 +81,61 @@ static long integer(reader *r, long lo, long hi)
     return r->failed ? lo : v;
 }
 
+/* A count of entries that take at least `tokens` tokens each: no more than the rest of
+   the file can hold (each token is a character and a separator), so that a count of
+   1e9 is refused before it is allocated. */
+static int count(reader *r, long lo, long tokens)
+{
+    long room = r->failed ? 0 : (long)((r->end - r->at) / (2 * tokens));
+    return (int)integer(r, lo, room < lo ? lo : (room < (1L << 30) ? room : (1L << 30)));
+}
+
+/* A finite number in [lo, hi]: `what` names the setting in the message. */
+static double bounded(reader *r, const char *what, double lo, double hi)
+{
+    double v = number(r);
+    if (!r->failed && !(isfinite(v) && v >= lo && v <= hi))
+        complain(r, "%s %g is not a finite number in [%g, %g]", what, v, lo, hi);
+    return v;
+}
+
+/* A name that becomes part of a path or a symbol: 1 to MAX_NAME characters of
+   letters, digits and '_' (and, for an instance, '-' and '.' but not first), so that
+   it cannot name a folder above resources/ or a library outside the member. */
+static const char *plain_name(reader *r, const char *what, int identifier)
+{
+    const char *w = word(r), *c;
+    size_t n = strlen(w);
+    int ok = n > 0 && n <= MAX_NAME && w[0] != '.' && w[0] != '-'
+             && !(identifier && w[0] >= '0' && w[0] <= '9');
+    for (c = w; ok && *c; c++)
+        ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')
+             || *c == '_' || (!identifier && (*c == '-' || *c == '.'));
+    if (!r->failed && !ok)
+        complain(r, "%s '%.200s' is not a plain name (%s, at most %d characters)", what, w,
+                 identifier ? "a C identifier: letters, digits and '_'"
+                            : "letters, digits, '_', '-' and '.', not starting with '.' or '-'",
+                 MAX_NAME);
+    return w;
+}
+
+/* The member's folder, resolved (links too), must lie inside resources/. */
+static void confined(reader *r, const char *resources_dir, const char *folder, const char *name)
+{
+    char *root, *real;
+    size_t n;
+    if (r->failed) return;
+    root = realpath(resources_dir, NULL);
+    real = realpath(folder, NULL);
+    if (!root || !real)
+        complain(r, "instance '%s': its folder resources/%s is missing", name, name);
+    else if (n = strlen(root), strncmp(real, root, n) != 0 || real[n] != '/')
+        complain(r, "instance '%s': resources/%s leads outside the FMU's resources (to %.300s)",
+                 name, name, real);
+    free(root);
+    free(real);
+}
+
 static void *table(reader *r, size_t n, size_t size)
 {
     void *p = calloc(n > 0 ? n : 1, size);
@@ -90,12 +159,15 @@ static void instance(reader *r, asm_config *cfg, int i, const char *resources_di
     int k;
     size_t len;
     expect(r, "instance");
-    s->instance_name = word(r);
-    s->model_identifier = word(r);
+    s->instance_name = plain_name(r, "instance name", 0);
+    s->model_identifier = plain_name(r, "model identifier", 1);
     s->instantiation_token = word(r);
+    if (!r->failed && strlen(s->instantiation_token) > MAX_TOKEN)
+        complain(r, "instance '%s': instantiation token longer than %d characters",
+                 s->instance_name, MAX_TOKEN);
     s->fmi_version = (int)integer(r, 2, 3);
-    s->n_states = (int)integer(r, 0, 1L << 30);
-    s->n_event_indicators = (int)integer(r, 0, 1L << 30);
+    s->n_states = (int)integer(r, 0, MAX_TOTAL);
+    s->n_event_indicators = (int)integer(r, 0, MAX_TOTAL);
     s->can_get_set_state = (int)integer(r, 0, 1);
     s->provides_directional_derivative = (int)integer(r, 0, 1);
     if (r->failed) return;
@@ -105,7 +177,8 @@ static void instance(reader *r, asm_config *cfg, int i, const char *resources_di
     if (r->failed) return;
     snprintf(cfg->unzip_dirs[i], len, "%s/%s", resources_dir, s->instance_name);
     s->unzip_dir = cfg->unzip_dirs[i];
-    s->n_float_starts = (int)integer(r, 0, 1L << 30);
+    confined(r, resources_dir, s->unzip_dir, s->instance_name);
+    s->n_float_starts = count(r, 0, 2);
     vr = (uint32_t *)table(r, (size_t)s->n_float_starts, sizeof *vr);
     fv = (double *)table(r, (size_t)s->n_float_starts, sizeof *fv);
     s->float_start_vr = vr;
@@ -114,7 +187,7 @@ static void instance(reader *r, asm_config *cfg, int i, const char *resources_di
         vr[k] = (uint32_t)integer(r, 0, 0xffffffffL);
         fv[k] = number(r);
     }
-    s->n_int_starts = (int)integer(r, 0, 1L << 30);
+    s->n_int_starts = count(r, 0, 2);
     vr = (uint32_t *)table(r, (size_t)s->n_int_starts, sizeof *vr);
     iv = (int32_t *)table(r, (size_t)s->n_int_starts, sizeof *iv);
     s->int_start_vr = vr;
@@ -130,7 +203,9 @@ static int read_all(const char *path, char **text)
     FILE *f = fopen(path, "rb");
     long n;
     if (!f) return -1;
-    if (fseek(f, 0, SEEK_END) || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET)) {
+    /* a description is kilobytes: 64 MiB is far beyond any, and bounds the allocation */
+    if (fseek(f, 0, SEEK_END) || (n = ftell(f)) < 0 || n > (64L << 20)
+        || fseek(f, 0, SEEK_SET)) {
         fclose(f);
         return -1;
     }
@@ -158,6 +233,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
         return -1;
     }
     r.at = cfg->text;
+    r.end = cfg->text + strlen(cfg->text);
     r.section = "mechfmu-assembly";
     r.err = err;
     r.err_len = err_len;
@@ -173,32 +249,51 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
         if (!r.failed && cfg->mode == ASM_COSIM && strcmp(mode, "cosim") != 0)
             complain(&r, "mode '%s' is neither cosim nor me", mode);
     }
+    /* the ranges the Python side checks before it writes them (check_experiment,
+       check_tolerance, check_cosim_settings) */
     expect(&r, "settings");
-    g->stop_time = number(&r);
-    g->tolerance = number(&r);
-    g->step = number(&r);
+    g->stop_time = bounded(&r, "stop time", 1e-300, 1e300);
+    g->tolerance = bounded(&r, "tolerance", 1e-14, 0.5);
+    g->step = bounded(&r, "communication step", 1e-300, 1e300);
     g->scheme = (int)integer(&r, ENG_JACOBI, ENG_GAUSS_SEIDEL);
     g->extrapolation = (int)integer(&r, 0, 2);
     g->adaptive = (int)integer(&r, 0, 1);
-    g->tol = number(&r);
-    g->loop_tolerance = number(&r);
-    g->max_loop_iterations = (int)integer(&r, 1, 1L << 20);
+    g->tol = bounded(&r, "adaptive tolerance tol", 1e-300, 0.5);
+    g->loop_tolerance = bounded(&r, "loop tolerance", 1e-300, 1e300);
+    g->max_loop_iterations = (int)integer(&r, 1, 1000);
     g->newton = (int)integer(&r, 0, 1);
     g->event_sync = (int)integer(&r, 0, 1);
-    g->event_tol = number(&r);
+    g->event_tol = bounded(&r, "event tolerance", 1e-300, 1e300);
     cfg->me_spec.method = (int)integer(&r, ENG_DOPRI5, ENG_AUTO);
     cfg->me_spec.event_subsamples = (int)integer(&r, 0, 1000);
+    /* 0: none; else no shorter than a millionth of the step, which the export writes
+       (1e-300 would make every doStep a budget's worth of steps that go nowhere) */
     cfg->me_spec.max_step = number(&r);
+    if (!r.failed && cfg->me_spec.max_step != 0.0
+        && !(isfinite(cfg->me_spec.max_step) && cfg->me_spec.max_step >= 1e-6 * g->step))
+        complain(&r, "max_step %g is neither 0 (no limit) nor a finite step of at least 1e-6 "
+                 "x the communication step %g", cfg->me_spec.max_step, g->step);
 
     expect(&r, "instances");
-    g->n_instances = n = (int)integer(&r, 1, 1L << 20);
+    g->n_instances = n = count(&r, 1, 11);
     cfg->instances = (eng_instance_spec *)table(&r, (size_t)n, sizeof *cfg->instances);
     cfg->unzip_dirs = (char **)table(&r, (size_t)n, sizeof *cfg->unzip_dirs);
     g->instances = cfg->instances;
     for (i = 0; i < n && !r.failed; i++) instance(&r, cfg, i, resources_dir);
+    {
+        long states = 0, indicators = 0;
+        for (i = 0; i < n && !r.failed; i++) {
+            states += cfg->instances[i].n_states;
+            indicators += cfg->instances[i].n_event_indicators;
+        }
+        if (!r.failed && (states > MAX_TOTAL || indicators > MAX_TOTAL))
+            complain(&r, "%ld states and %ld event indicators in all, more than %ld", states,
+                     indicators, MAX_TOTAL);
+        cfg->n_indicators = (int)indicators;
+    }
 
     expect(&r, "couplings");
-    g->n_couplings = n = (int)integer(&r, 0, 1L << 20);
+    g->n_couplings = n = count(&r, 0, 9);
     cfg->couplings = (eng_coupling *)table(&r, (size_t)n, sizeof *cfg->couplings);
     cfg->held = (int *)table(&r, (size_t)n, sizeof(int));
     cfg->derivative = (int *)table(&r, (size_t)n, sizeof(int));
@@ -215,7 +310,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     }
 
     expect(&r, "groups");
-    g->n_groups = n = (int)integer(&r, 0, 1L << 20);
+    g->n_groups = n = count(&r, 0, 3);
     cfg->group_start = (int *)table(&r, (size_t)n + 1, sizeof(int));
     cfg->group_is_loop = (int *)table(&r, (size_t)n, sizeof(int));
     cfg->group_members = (int *)table(&r, (size_t)g->n_couplings, sizeof(int));
@@ -236,17 +331,23 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     expect(&r, "sweep");
     cfg->sweep_order = (int *)table(&r, (size_t)g->n_instances, sizeof(int));
     g->sweep_order = cfg->sweep_order;
-    for (i = 0; i < g->n_instances && !r.failed; i++)
-        cfg->sweep_order[i] = (int)integer(&r, 0, g->n_instances - 1);
+    {   /* each instance once: a repeated one would be stepped twice in a sweep */
+        char *seen = (char *)table(&r, (size_t)g->n_instances, 1);
+        for (i = 0; i < g->n_instances && !r.failed; i++) {
+            int j = cfg->sweep_order[i] = (int)integer(&r, 0, g->n_instances - 1);
+            if (!r.failed && seen[j]++) complain(&r, "instance %d comes twice", j);
+        }
+        free(seen);
+    }
 
     expect(&r, "states");
-    g->n_states = n = (int)integer(&r, 0, 1L << 24);
+    g->n_states = n = count(&r, 0, 3);
     cfg->states = (eng_variable *)table(&r, (size_t)n, sizeof *cfg->states);
     g->states = cfg->states;
     for (k = 0; k < n && !r.failed; k++) variable(&r, &cfg->states[k], g->n_instances);
 
     expect(&r, "ports");
-    cfg->n_ports = n = (int)integer(&r, 0, 1L << 24);
+    cfg->n_ports = n = count(&r, 0, 6);
     cfg->ports = (asm_port *)table(&r, (size_t)n, sizeof *cfg->ports);
     for (k = 0; k < n && !r.failed; k++) {
         const char *causality;
@@ -259,6 +360,13 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
         else if (strcmp(causality, "indicator") == 0) cfg->ports[k].kind = ASM_INDICATOR;
         else complain(&r, "port kind '%s' is not input, output, local or indicator", causality);
         variable(&r, &cfg->ports[k].member, g->n_instances);
+        /* an indicator's vr indexes the coupled system's indicator array */
+        if (!r.failed && cfg->ports[k].kind == ASM_INDICATOR
+            && (cfg->mode != ASM_ME || cfg->ports[k].member.is_int
+                || cfg->ports[k].member.vr >= (uint32_t)cfg->n_indicators))
+            complain(&r, "port %u: event indicator %u is not one of the %d indicators of a "
+                     "Model Exchange assembly", cfg->ports[k].vr, cfg->ports[k].member.vr,
+                     cfg->mode == ASM_ME ? cfg->n_indicators : 0);
     }
     expect(&r, "end");
     cfg->me_spec.n_instances = g->n_instances;

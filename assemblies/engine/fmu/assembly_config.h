@@ -42,6 +42,7 @@ typedef struct {
     eng_me_spec me_spec;  /* ASM_ME: the same instances and couplings */
     int n_ports;
     asm_port *ports;
+    int n_indicators;     /* the members' event indicators together */
     /* what spec points to */
     eng_instance_spec *instances;
     char **unzip_dirs;

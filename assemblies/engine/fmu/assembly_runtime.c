@@ -375,6 +375,10 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
                 return ERROR(A, "%s: event indicators are read once initialization is done "
                              "(of an assembly of Model Exchange members), not in the %s", fn,
                              phase_names[A->phase]);
+            /* the parser bounds it too; an index into z is checked where it is used */
+            if (p->member.vr >= (uint32_t)eng_me_number_of_indicators(A->me))
+                return ERROR(A, "%s: value reference %u names event indicator %u of %d", fn,
+                             vr[k], p->member.vr, eng_me_number_of_indicators(A->me));
             if (eng_me_indicators(A->me, A->z)) return engine_failed(A, fn);
             *f = A->z[p->member.vr];
             continue;
