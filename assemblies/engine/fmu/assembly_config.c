@@ -362,7 +362,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
         variable(&r, &cfg->ports[k].member, g->n_instances);
         /* an indicator's vr indexes the coupled system's indicator array */
         if (!r.failed && cfg->ports[k].kind == ASM_INDICATOR
-            && (cfg->mode != ASM_ME || cfg->ports[k].member.is_int
+            && (cfg->mode != ASM_ME || cfg->ports[k].member.type != ENG_FLOAT64
                 || cfg->ports[k].member.vr >= (uint32_t)cfg->n_indicators))
             complain(&r, "port %u: event indicator %u is not one of the %d indicators of a "
                      "Model Exchange assembly", cfg->ports[k].vr, cfg->ports[k].member.vr,
