@@ -5,12 +5,17 @@ from __future__ import annotations
 import textwrap
 from pathlib import Path
 
-import matplotlib
+from .result import Result
 
-matplotlib.use("Agg")  # files only: runs headless on CI and servers
-import matplotlib.pyplot as plt  # noqa: E402
+def pyplot():
+    """matplotlib.pyplot, loaded on the first plot rather than with the modules that plot:
+    it takes 0.4 s, and a run that a bad setting ends must answer at once (assemblies.run
+    and the scene registry import every plotting module)."""
+    import matplotlib
+    matplotlib.use("Agg")  # files only: runs headless on CI and servers
+    import matplotlib.pyplot as plt
+    return plt
 
-from .result import Result  # noqa: E402
 
 # the suptitle's font size, and the characters of it that fit on one line of an 8 in figure
 TITLE_SIZE, TITLE_WIDTH = 10, 95
@@ -39,6 +44,7 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
 
 def plot_result(result: Result, columns: list[str], title: str, path: str | Path,
                 units: dict[str, str] | None = None) -> None:
+    plt = pyplot()
     units = units or {}
     fig, axes = plt.subplots(len(columns), 1, sharex=True, figsize=(8, 2.2 * len(columns) + 0.8),
                              squeeze=False)

@@ -6,19 +6,17 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")  # files only: runs headless on CI and servers
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from ..result import Result  # noqa: E402
+from ..plot import pyplot
+from ..result import Result
 
 SNAPSHOTS = 5  # bodies drawn along a run: enough to read the motion, few enough to see
 WIDTHS = {"width_ratios": [1, 1.3]}  # the drawing beside its graph
 
 
 def _save(fig, title: str, path: str | Path) -> None:
+    plt = pyplot()
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -50,6 +48,7 @@ def plot_cylinder(result: Result, title: str, path: str | Path, instance: str = 
     """Left: the incline with the cylinder drawn at equal time steps, a radius marking the
     angle it rolled through (phi = s / R, Eq. 8.1). Right: s(t) beside Eq. 8.2's parabola
     and a frictionless slide's, (3/2) x steeper."""
+    plt = pyplot()
     t, s, phi = result["time"], result[f"{instance}.s"], result[f"{instance}.phi"]
     a = _reference(result, "a")
     alpha = math.atan(3 * _reference(result, "mu_min"))  # friction / N = tan(alpha) / 3
@@ -96,6 +95,7 @@ def plot_shell(result: Result, title: str, path: str | Path, instance: str = "sh
     """Left: the shell at the start, upright and at the other extreme, G marked (fig. 8.1).
     Right: the tilt against time beside the seed's linear oscillation at the same
     amplitude, which drifts ahead by the amplitude's frequency shift."""
+    plt = pyplot()
     t, phi = result["time"], result[f"{instance}.phi"]
     x_G, y_G, x_O = (result[f"{instance}.{k}"] for k in ("x_G", "y_G", "x_contact"))
     R = float(y_G[0] / (1 - math.cos(phi[0]) / 2))  # y_G = R - (R/2) cos(phi)
@@ -124,6 +124,7 @@ def plot_shell(result: Result, title: str, path: str | Path, instance: str = "sh
 def plot_rod(result: Result, title: str, path: str | Path, instance: str = "rod") -> None:
     """Left: the rod on its rollers at its two extremes and in the middle, the rollers'
     spin marked (fig. 9.11). Right: x(t) beside the closed form."""
+    plt = pyplot()
     t, x = result["time"], result[f"{instance}.x"]
     w = _reference(result, "omega")
     N_1, N_2 = result[f"{instance}.N_1"], result[f"{instance}.N_2"]
@@ -156,6 +157,7 @@ def plot_wobble(result: Result, title: str, path: str | Path, instance: str = "d
     """Left: the disk's axis seen along X, its tip going round H (fig. 8.3's cone), H's
     direction marked. Right: the angle the axis has turned about H and the angle the disk
     has spun about its axis, against time: the first climbs twice as fast."""
+    plt = pyplot()
     from .bodies_seed import cone_angle, disk_angular_momentum  # the figures' own measures
     t = result["time"]
     n = np.stack([result[f"{instance}.n_{a}"] for a in "XYZ"], axis=1)
@@ -192,6 +194,7 @@ def plot_damper(result: Result, title: str, path: str | Path, instance: str = "b
     w = h / (I + J), lie on the H ellipsoid (I w)^2 = H^2, and move from its minor-axis tip
     to its major-axis tip as the T ellipsoid shrinks. Right: T falling to H^2 / (2 I_max)
     and the angle of H from the major axis."""
+    plt = pyplot()
     t, T = result["time"], result[f"{instance}.T"]
     h = np.stack([result[f"{instance}.h_{a}"] for a in "xyz"], axis=1)
     w = np.stack([result[f"{instance}.w_{a}"] for a in "xyz"], axis=1)

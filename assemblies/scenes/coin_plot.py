@@ -4,18 +4,16 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
 
-matplotlib.use("Agg")  # files only: runs headless on CI and servers
-import matplotlib.pyplot as plt  # noqa: E402
-
-from ..result import Result  # noqa: E402
+from ..plot import pyplot
+from ..result import Result
 
 
 def plot_coin(result: Result, title: str, path: str | Path, instance: str = "coin") -> None:
     """Left: contact path and centre path seen from above (equal axes, so a circle looks
     like one), start and end marked. Right: lean from upright in degrees, and the end of
     the run if the coin fell flat."""
+    plt = pyplot()
     t = result["time"]
     fig, (ground, lean) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw={"width_ratios": [1, 1.3]})
     xc, yc = result[f"{instance}.x_C"], result[f"{instance}.y_C"]

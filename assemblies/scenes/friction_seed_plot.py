@@ -10,13 +10,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")  # files only: runs headless on CI and servers
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from ..result import Result  # noqa: E402
+from ..plot import pyplot
+from ..result import Result
 
 
 def _figure(result: Result, name: str):
@@ -29,6 +26,7 @@ def _reference(result: Result, name: str) -> float:
 
 
 def _save(fig, title: str, path: str | Path) -> None:
+    plt = pyplot()
     import textwrap
     fig.suptitle(textwrap.fill(title, 110), fontsize=10)
     fig.tight_layout()
@@ -40,6 +38,7 @@ def plot_resonance(result: Result, title: str, path: str | Path) -> None:
     """Left: x(t) of each block (Fig. 9.6/9.7's heavy line) with the seed's dashed lines
     of the predicted rate. Right: |x| at the turning points, measured, beside the
     half-period law's closed-form points."""
+    plt = pyplot()
     from .friction_seed import turning_points  # the scene module imports this one
 
     t = result["time"]
@@ -84,6 +83,7 @@ def plot_resonance(result: Result, title: str, path: str | Path) -> None:
 def plot_smooth(result: Result, title: str, path: str | Path) -> None:
     """Fig. 9.4: displacement (left), velocity (middle), and the velocity near zero
     (right) of the smooth law, with the exact Coulomb slip t1 and stick t2 (dashed)."""
+    plt = pyplot()
     t = result["time"]
     t1, t2 = _reference(result, "t1"), _reference(result, "t2")
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
@@ -112,6 +112,7 @@ def plot_sliding(result: Result, title: str, path: str | Path) -> None:
     """Left: how far each block trails its driven end, v t - x, about x_ss. Right: the
     deviation from steady sliding in its phase plane: a centre without damping, a focus
     with it."""
+    plt = pyplot()
     t = result["time"]
     x_ss = _reference(result, "lag")
     fig, (left, right) = plt.subplots(1, 2, figsize=(13, 4.8))
@@ -136,6 +137,7 @@ def plot_distinguished_limit(result: Result, title: str, path: str | Path) -> No
     """Left: the pull on the front mass and the tension inside the block, for each K:
     the front slips at mu_s m g / n, the block's inner springs then load step by step.
     Right: the first slip time against K beside mu_s m g / (n k v) and the rigid block's."""
+    plt = pyplot()
     from .friction_seed import mode_changes  # the scene module imports this one
 
     t = result["time"]
