@@ -29,7 +29,6 @@ from ..experiment import check_experiment, output_times
 from ..foreign import check_mode
 from ..inputs import with_inputs
 from ..limits import check_output_values
-from ..masters.me import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
@@ -333,6 +332,9 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         # every value set before initialisation (a foreign FMU's Strings too)
         keys = [(n, fmus[n], [*c.fmu_starts()]) for n, c in assembly.components.items()]
+        # imported here: the module loads scipy's integrators (0.3 s), which a run that a
+        # bad setting ends before any build must not wait for
+        from ..masters.me import coupling_order
         ordered = coupling_order(couplings, fmus)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))
