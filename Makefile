@@ -4,10 +4,12 @@ PY := $(VENV)/bin/python
 
 .PHONY: demo test asan
 
+# pip -qq: setuptools' generic advice on editable installs is not for a newcomer's screen
+# (errors still print)
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install -qq -e '.[test]'
 	touch $@
 
 # the main job: the stick-slip scene, its result table, CSV, JSON and plot in out/
