@@ -4,7 +4,8 @@ Our own runtime never shows the defects other exporters' FMUs have (a state rest
 does nothing, outputs that read stale, termination the FMI 2 way, array variables...),
 so each of them is reproduced by a small FMU of its own under ``tests/handmade/<name>/``:
 ``model.c`` (the FMI functions, written directly against the standard's headers, no code
-of ours) and ``modelDescription.xml``. :func:`handmade_fmu` compiles it with gcc against
+of ours; an FMI 2 one takes the functions it leaves at their plainest from
+``tests/handmade/fmi2_defaults.h``) and ``modelDescription.xml``. :func:`handmade_fmu` compiles it with gcc against
 the FMI headers fmpy ships and zips it, once per content, into the cache.
 
 The model identifier is the folder's name; the FMI version is read from the description.
@@ -32,7 +33,9 @@ def handmade_fmu(name: str) -> Path:
     if version is None:
         raise ValueError(f"{xml_path}: no fmiVersion")
     fmi_version = int(version.group(1))
-    digest = hashlib.sha256(source.read_bytes() + b"\0" + xml.encode()).hexdigest()[:16]
+    shared = (HANDMADE / "fmi2_defaults.h").read_bytes()  # included by the FMI 2 ones
+    digest = hashlib.sha256(source.read_bytes() + b"\0" + xml.encode() + b"\0"
+                            + shared).hexdigest()[:16]
     target = cache_dir() / "handmade" / f"{name}-{digest}.fmu"
     if target.exists():
         return target

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
+#define HANDMADE_ME
+#include "../fmi2_defaults.h"
 
 typedef struct { double time, x[2]; } Instance;
 
@@ -18,20 +20,12 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
     if (s) s->x[1] = 1.0;
     return s;
 }
-void fmi2FreeInstance(fmi2Component c) { free(c); }
-const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
-const char *fmi2GetVersion(void) { return fmi2Version; }
-fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cat[]) {
-    (void)c; (void)on; (void)n; (void)cat; return fmi2OK;
-}
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDef, fmi2Real tol, fmi2Real t0,
                                fmi2Boolean stopDef, fmi2Real t1) {
     (void)tolDef; (void)tol; (void)stopDef; (void)t1;
     ((Instance *)c)->time = t0; return fmi2OK;
 }
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
-fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2Reset(fmi2Component c) {
     Instance *s = c; s->time = 0; s->x[0] = 0; s->x[1] = 1; return fmi2OK;
 }
@@ -57,42 +51,6 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     }
     return fmi2OK;
 }
-fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2String v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *st) { (void)c; (void)st; return fmi2Error; }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate st) { (void)c; (void)st; return fmi2Error; }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *st) { (void)c; (void)st; return fmi2Error; }
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate st, size_t *n) {
-    (void)c; (void)st; (void)n; return fmi2Error;
-}
-fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate st, fmi2Byte b[], size_t n) {
-    (void)c; (void)st; (void)b; (void)n; return fmi2Error;
-}
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *st) {
-    (void)c; (void)b; (void)n; (void)st; return fmi2Error;
-}
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
-                                        const fmi2ValueReference k[], size_t nk,
-                                        const fmi2Real dk[], fmi2Real du[]) {
-    (void)c; (void)u; (void)nu; (void)k; (void)nk; (void)dk; (void)du; return fmi2Error;
-}
-fmi2Status fmi2EnterEventMode(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     (void)c;
     info->newDiscreteStatesNeeded = fmi2False;
@@ -102,11 +60,6 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     info->nextEventTimeDefined = fmi2False;
     info->nextEventTime = 0;
     return fmi2OK;
-}
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { (void)c; return fmi2OK; }
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetPrior,
-                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminate) {
-    (void)c; (void)noSetPrior; *enterEventMode = fmi2False; *terminate = fmi2False; return fmi2OK;
 }
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) { ((Instance *)c)->time = t; return fmi2OK; }
 /* the first nx states, as the standard has the importer say how many it holds */
@@ -127,10 +80,5 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t nz) {
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     Instance *s = c;
     for (size_t i = 0; i < nx && i < 2; i++) x[i] = s->x[i];
-    return fmi2OK;
-}
-fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
-    (void)c;
-    for (size_t i = 0; i < nx; i++) x[i] = 1.0;
     return fmi2OK;
 }

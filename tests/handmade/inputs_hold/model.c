@@ -6,6 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
+#define HANDMADE_CS
+#define HANDMADE_ME
+#define OWN_fmi2GetInteger
+#define OWN_fmi2SetInteger
+#define OWN_fmi2GetNominalsOfContinuousStates
+#include "../fmi2_defaults.h"
 
 typedef struct {
     double time, u, d, x;
@@ -21,20 +27,12 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
     UNUSED(visible); UNUSED(logging);
     return calloc(1, sizeof(Instance));
 }
-void fmi2FreeInstance(fmi2Component c) { free(c); }
-const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
-const char *fmi2GetVersion(void) { return fmi2Version; }
-fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cat[]) {
-    UNUSED(c); UNUSED(on); UNUSED(n); UNUSED(cat); return fmi2OK;
-}
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDef, fmi2Real tol, fmi2Real t0,
                                fmi2Boolean stopDef, fmi2Real t1) {
     UNUSED(tolDef); UNUSED(tol); UNUSED(stopDef); UNUSED(t1);
     ((Instance *)c)->time = t0; return fmi2OK;
 }
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { UNUSED(c); return fmi2OK; }
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) { UNUSED(c); return fmi2OK; }
-fmi2Status fmi2Terminate(fmi2Component c) { UNUSED(c); return fmi2OK; }
 fmi2Status fmi2Reset(fmi2Component c) { memset(c, 0, sizeof(Instance)); return fmi2OK; }
 
 static double *slot(Instance *s, fmi2ValueReference vr) {
@@ -71,12 +69,6 @@ fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     }
     return fmi2OK;
 }
-fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
-}
 fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[]) {
     Instance *s = c;
     for (size_t i = 0; i < n; i++) {
@@ -85,43 +77,12 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
     }
     return fmi2OK;
 }
-fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2String v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(v); return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *st) { UNUSED(c); UNUSED(st); return fmi2Error; }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate st) { UNUSED(c); UNUSED(st); return fmi2Error; }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *st) { UNUSED(c); UNUSED(st); return fmi2Error; }
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate st, size_t *n) {
-    UNUSED(c); UNUSED(st); UNUSED(n); return fmi2Error;
-}
-fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate st, fmi2Byte b[], size_t n) {
-    UNUSED(c); UNUSED(st); UNUSED(b); UNUSED(n); return fmi2Error;
-}
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *st) {
-    UNUSED(c); UNUSED(b); UNUSED(n); UNUSED(st); return fmi2Error;
-}
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
-                                        const fmi2ValueReference k[], size_t nk,
-                                        const fmi2Real dk[], fmi2Real du[]) {
-    UNUSED(c); UNUSED(u); UNUSED(nu); UNUSED(k); UNUSED(nk); UNUSED(dk); UNUSED(du);
-    return fmi2Error;
-}
 
 /* Model Exchange */
-fmi2Status fmi2EnterEventMode(fmi2Component c) { UNUSED(c); return fmi2OK; }
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     UNUSED(c);
     memset(info, 0, sizeof *info);
     return fmi2OK;
-}
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { UNUSED(c); return fmi2OK; }
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetPrior,
-                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminate) {
-    UNUSED(c); UNUSED(noSetPrior);
-    *enterEventMode = fmi2False; *terminate = fmi2False; return fmi2OK;
 }
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) { ((Instance *)c)->time = t; return fmi2OK; }
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n) {
@@ -146,14 +107,6 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size
 }
 
 /* Co-Simulation: d is constant over a step, so x moves by d h exactly */
-fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                                       const fmi2Integer o[], const fmi2Real v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(n); UNUSED(o); UNUSED(v); return fmi2Error;
-}
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                                        const fmi2Integer o[], fmi2Real v[]) {
-    UNUSED(c); UNUSED(vr); UNUSED(n); UNUSED(o); UNUSED(v); return fmi2Error;
-}
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior) {
     Instance *s = c;
     UNUSED(noSetPrior);
@@ -161,19 +114,9 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSet
     s->time = t + h;
     return fmi2OK;
 }
-fmi2Status fmi2CancelStep(fmi2Component c) { UNUSED(c); return fmi2Error; }
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) {
-    UNUSED(c); UNUSED(k); UNUSED(v); return fmi2Discard;
-}
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) {
     UNUSED(c); UNUSED(k); UNUSED(v); return fmi2Discard;
 }
-fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Integer *v) {
-    UNUSED(c); UNUSED(k); UNUSED(v); return fmi2Discard;
-}
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v) {
-    UNUSED(c); UNUSED(k); UNUSED(v); return fmi2Discard;
-}
-fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v) {
     UNUSED(c); UNUSED(k); UNUSED(v); return fmi2Discard;
 }

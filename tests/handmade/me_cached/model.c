@@ -11,6 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
+#define HANDMADE_CS
+#define HANDMADE_ME
+#include "../fmi2_defaults.h"
 
 enum { VR_X, VR_V, VR_DX, VR_DV, VR_W, VR_CACHE, VR_POS, VR_ENERGY, VR_CROSS, N_VR };
 
@@ -51,22 +54,14 @@ fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
     if (s) reset(s);
     return s;
 }
-void fmi2FreeInstance(fmi2Component c) { free(c); }
-const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
-const char *fmi2GetVersion(void) { return fmi2Version; }
-fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cat[]) {
-    (void)c; (void)on; (void)n; (void)cat; return fmi2OK;
-}
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolDef, fmi2Real tol, fmi2Real t0,
                                fmi2Boolean stopDef, fmi2Real t1) {
     (void)tolDef; (void)tol; (void)stopDef; (void)t1;
     ((Instance *)c)->time = t0; return fmi2OK;
 }
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     derivatives(c); outputs(c); return fmi2OK;
 }
-fmi2Status fmi2Terminate(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2Reset(fmi2Component c) { reset(c); return fmi2OK; }
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Real v[]) {
     Instance *s = c;
@@ -88,60 +83,11 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     }
     return fmi2OK;
 }
-fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Integer v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2Boolean v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, fmi2String v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Integer v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Boolean v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2String v[]) {
-    (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *st) { (void)c; (void)st; return fmi2Error; }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate st) { (void)c; (void)st; return fmi2Error; }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *st) { (void)c; (void)st; return fmi2Error; }
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate st, size_t *n) {
-    (void)c; (void)st; (void)n; return fmi2Error;
-}
-fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate st, fmi2Byte b[], size_t n) {
-    (void)c; (void)st; (void)b; (void)n; return fmi2Error;
-}
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *st) {
-    (void)c; (void)b; (void)n; (void)st; return fmi2Error;
-}
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
-                                        const fmi2ValueReference k[], size_t nk,
-                                        const fmi2Real dk[], fmi2Real du[]) {
-    (void)c; (void)u; (void)nu; (void)k; (void)nk; (void)dk; (void)du; return fmi2Error;
-}
-fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                                       const fmi2Integer o[], const fmi2Real v[]) {
-    (void)c; (void)vr; (void)n; (void)o; (void)v; return fmi2Error;
-}
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                                        const fmi2Integer o[], fmi2Real v[]) {
-    (void)c; (void)vr; (void)n; (void)o; (void)v; return fmi2Error;
-}
 
-fmi2Status fmi2EnterEventMode(fmi2Component c) { (void)c; return fmi2OK; }
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     (void)c;
     memset(info, 0, sizeof *info);
     return fmi2OK;
-}
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { (void)c; return fmi2OK; }
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetPrior,
-                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminate) {
-    (void)c; (void)noSetPrior; *enterEventMode = fmi2False; *terminate = fmi2False; return fmi2OK;
 }
 /* the cache: the outputs of the states held now, which the states set next replace */
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) {
@@ -179,29 +125,14 @@ fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     x[1] = s->v[VR_V];
     return fmi2OK;
 }
-fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
-    (void)c;
-    for (size_t i = 0; i < nx; i++) x[i] = 1.0;
-    return fmi2OK;
-}
 
 /* Co-Simulation functions: not this FMU's interface */
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean noSetPrior) {
     (void)c; (void)t; (void)h; (void)noSetPrior; return fmi2Error;
 }
-fmi2Status fmi2CancelStep(fmi2Component c) { (void)c; return fmi2Error; }
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind k, fmi2Status *v) {
-    (void)c; (void)k; (void)v; return fmi2Discard;
-}
 fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind k, fmi2Real *v) {
     (void)c; (void)k; (void)v; return fmi2Discard;
 }
-fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind k, fmi2Integer *v) {
-    (void)c; (void)k; (void)v; return fmi2Discard;
-}
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind k, fmi2Boolean *v) {
-    (void)c; (void)k; (void)v; return fmi2Discard;
-}
-fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind k, fmi2String *v) {
     (void)c; (void)k; (void)v; return fmi2Discard;
 }
