@@ -39,6 +39,25 @@ def simulate_in_fmpy(component, fmi_type, stop_time, output_interval, tolerance=
                         start_values=starts, output=output, record_events=True)
 
 
+def quick_refusal(call, *words):
+    """`call` raises one of our ValueErrors (a MechfmuError), one line holding `words`, in
+    under a second: how every bad input must end (issue 25). Returns the message."""
+    import time
+
+    from components.errors import MechfmuError
+
+    started = time.perf_counter()
+    with pytest.raises(MechfmuError) as caught:
+        call()
+    assert time.perf_counter() - started < 1.0
+    assert isinstance(caught.value, ValueError)
+    message = str(caught.value)
+    assert "\n" not in message
+    for word in words:
+        assert word in message, (word, message)
+    return message
+
+
 # seed 9.4 with m = k = g = 1, mu_s = mu_k = 0.6, x(0) = 6.55
 FRICTION_DAMPING_TURNING = [6.55, -5.35, 4.15, -2.95, 1.75, -0.55]
 

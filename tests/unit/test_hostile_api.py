@@ -3,7 +3,6 @@ of our ValueErrors, one line naming the value and what is allowed, and nothing l
 behind; a foreign FMU's file is checked before anything of it is loaded."""
 from __future__ import annotations
 
-import time
 import zipfile
 
 import numpy as np
@@ -11,30 +10,17 @@ import pytest
 
 from assemblies import FMU, export_fmu, run_scene, scene
 from components import AssumedModesBeam, SpringBlock
-from components.errors import MechfmuError
-
-
-def refused(call, *words):
-    started = time.perf_counter()
-    with pytest.raises(MechfmuError) as caught:
-        call()
-    assert time.perf_counter() - started < 1.0
-    assert isinstance(caught.value, ValueError)
-    message = str(caught.value)
-    assert "\n" not in message
-    for word in words:
-        assert word in message, (word, message)
-    return message
+from conftest import quick_refusal
 
 
 def test_a_bool_is_no_parameter_value_and_a_float_no_count_of_modes():
     """float(True) is 1.0 and float(2.0).is_integer(): both were taken before."""
-    refused(lambda: SpringBlock(m=True), "SpringBlock", "m = True is not a number (a bool)")
-    refused(lambda: SpringBlock(k=np.True_), "k = np.True_ is not a number")
-    refused(lambda: AssumedModesBeam(n_modes=2.0), "option n_modes = 2.0 is not allowed",
+    quick_refusal(lambda: SpringBlock(m=True), "SpringBlock", "m = True is not a number (a bool)")
+    quick_refusal(lambda: SpringBlock(k=np.True_), "k = np.True_ is not a number")
+    quick_refusal(lambda: AssumedModesBeam(n_modes=2.0), "option n_modes = 2.0 is not allowed",
             "an integer from 1 to 128")
-    refused(lambda: AssumedModesBeam(n_modes=True), "option n_modes = True is not allowed")
-    refused(lambda: AssumedModesBeam(n_modes="2.5"), "n_modes = '2.5' is not allowed")
+    quick_refusal(lambda: AssumedModesBeam(n_modes=True), "option n_modes = True is not allowed")
+    quick_refusal(lambda: AssumedModesBeam(n_modes="2.5"), "n_modes = '2.5' is not allowed")
     # what stays allowed: numbers, their text (the command line), and ints of any kind
     assert SpringBlock(m="2").values["m"] == 2.0 and SpringBlock(m=np.float64(3)).values["m"] == 3
     for given in (8, "8", " 8 ", np.int64(8)):
@@ -42,12 +28,12 @@ def test_a_bool_is_no_parameter_value_and_a_float_no_count_of_modes():
 
 
 def test_an_fmu_path_that_is_no_path_is_one_line():
-    refused(lambda: FMU(123), "FMU: path must be the path of an .fmu file", "int 123")
+    quick_refusal(lambda: FMU(123), "FMU: path must be the path of an .fmu file", "int 123")
 
 
 def test_a_run_into_an_unwritable_folder_stops_before_it_runs():
     """Before: the run went through, then FileNotFoundError from mkdir."""
-    refused(lambda: run_scene("stick_slip", out="/proc/x"), "out /proc/x: cannot write there")
+    quick_refusal(lambda: run_scene("stick_slip", out="/proc/x"), "out /proc/x: cannot write there")
 
 
 def test_an_export_onto_a_folder_is_refused_first_and_leaves_nothing(tmp_path):
@@ -56,7 +42,7 @@ def test_an_export_onto_a_folder_is_refused_first_and_leaves_nothing(tmp_path):
     target = tmp_path / "here"
     target.mkdir()
     for _ in range(2):
-        refused(lambda: export_fmu(scene("stick_slip").build(), target),
+        quick_refusal(lambda: export_fmu(scene("stick_slip").build(), target),
                 f"export_fmu: path {target} is a folder")
     assert [p.name for p in tmp_path.iterdir()] == ["here"] and not list(target.iterdir())
 
@@ -119,7 +105,7 @@ def fmu_file(tmp_path, xml, extra=(), name="hpy.fmu"):
 def test_a_start_that_is_no_number_is_one_line(tmp_path):
     """Before: ValueError: could not convert string to float: 'abc' (a traceback)."""
     path = fmu_file(tmp_path, FMI2.format(x_start="0", k_start="abc", derivatives=BOTH))
-    refused(lambda: FMU(path), "hpy.fmu': variable k has start='abc'", "not a number")
+    quick_refusal(lambda: FMU(path), "hpy.fmu': variable k has start='abc'", "not a number")
     assert isinstance(FMU(fmu_file(tmp_path, FMI2.format(x_start="1", k_start="2",
                                                         derivatives=BOTH), name="ok.fmu")), FMU)
 
@@ -128,7 +114,7 @@ def test_a_start_that_is_no_number_is_one_line(tmp_path):
 def test_an_entry_outside_the_archive_folder_is_refused_before_extraction(tmp_path, entry):
     """Before: fmpy's own exception (extract refuses it) surfaced from the run."""
     path = fmu_file(tmp_path, FMI2.format(x_start="0", k_start="1", derivatives=BOTH), [entry])
-    refused(lambda: FMU(path), f"archive entry '{entry}'", "outside the folder")
+    quick_refusal(lambda: FMU(path), f"archive entry '{entry}'", "outside the folder")
 
 
 def test_a_state_whose_derivative_the_structure_leaves_out_is_refused(tmp_path):
@@ -137,7 +123,7 @@ def test_a_state_whose_derivative_the_structure_leaves_out_is_refused(tmp_path):
     standard lists every derivative there)."""
     path = fmu_file(tmp_path, FMI2.format(x_start="0", k_start="1",
                                           derivatives='      <Unknown index="2"/>'))
-    refused(lambda: FMU(path), "lists 1 state derivative(s)", "2 variables are declared",
+    quick_refusal(lambda: FMU(path), "lists 1 state derivative(s)", "2 variables are declared",
             "not listed: der(v)")
 
 
@@ -145,7 +131,7 @@ def test_a_listed_derivative_that_names_no_state_is_refused(tmp_path):
     """Before: AttributeError ('NoneType' object has no attribute 'name') when the engine
     read the states of it."""
     xml = FMI2.format(x_start="0", k_start="1", derivatives=BOTH + '\n      <Unknown index="5"/>')
-    refused(lambda: FMU(fmu_file(tmp_path, xml)), "lists k as a state derivative",
+    quick_refusal(lambda: FMU(fmu_file(tmp_path, xml)), "lists k as a state derivative",
             "names no state")
 
 
@@ -157,5 +143,5 @@ def test_a_real_binary_with_a_state_its_structure_leaves_out_is_refused():
     from handmade_fmus import handmade_fmu
     path = handmade_fmu("hpy_hidden")
     assert validate_fmu(str(path)) == []  # the defect is one fmpy's validation lets through
-    refused(lambda: FMU(path), "lists 1 state derivative(s), but 2 variables",
+    quick_refusal(lambda: FMU(path), "lists 1 state derivative(s), but 2 variables",
             "not listed: der(v)", "would not integrate their states")

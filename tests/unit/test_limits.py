@@ -12,25 +12,10 @@ from assemblies import cosimulate, run_scene, scene, simulate_me
 from assemblies.limits import (MAX_OUTPUT_ROWS, MAX_SWEEP_RUNS, LimitError, check_output_rows,
                                check_output_values, max_workers)
 from assemblies.sweep import sweep
-from components.errors import MechfmuError
 from test_bad_input import one_line_error
+from conftest import quick_refusal
 
 STICK_SLIP = scene("stick_slip").build
-
-
-def quick_refusal(call, *words):
-    """`call` raises one of our ValueErrors, one line holding `words`, in under a second
-    (before this, each of these ran out of memory, for minutes or until the OOM killer)."""
-    started = time.perf_counter()
-    with pytest.raises(MechfmuError) as caught:
-        call()
-    assert time.perf_counter() - started < 1.0
-    assert isinstance(caught.value, ValueError)
-    message = str(caught.value)
-    assert "\n" not in message
-    for word in words:
-        assert word in message, (word, message)
-    return message
 
 
 ROWS = ["assemblies.limits.MAX_OUTPUT_ROWS", f"at most {MAX_OUTPUT_ROWS:,}"]
