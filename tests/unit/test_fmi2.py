@@ -8,18 +8,16 @@ from ctypes import byref, c_double, c_int
 
 import numpy as np
 import pytest
-from fmpy import calloc, extract, free, read_model_description
+from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import (FMU2Model, FMU2Slave, fmi2CallbackAllocateMemoryTYPE,
-                       fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
-                       fmi2Discard, fmi2Error, fmi2LastSuccessfulTime, fmi2Terminated,
-                       fmi2ValueReference)
-from fmpy.logging import addLoggerProxy
+from fmpy.fmi2 import (FMU2Model, FMU2Slave, fmi2Discard, fmi2Error, fmi2LastSuccessfulTime,
+                       fmi2Terminated, fmi2ValueReference)
 from fmpy.validation import validate_fmu
 
 from assemblies.cli import main as mechfmu
 from components import COMPONENTS, SpringBlock
 from conftest import drop_component
+from cs_slave import fmi2_callbacks
 from fmus import build_fmu
 
 
@@ -90,34 +88,14 @@ Drop = drop_component()
 T_HIT = math.sqrt(2 * 2.0 / 9.81)  # h = 2 - g t^2 / 2
 
 
-def _callbacks(messages):
-    """fmi2CallbackFunctions whose logger records (status, message); fmpy's native
-    proxy does the printf formatting that ctypes cannot.
-
-    The proxy forwards to the Python logger registered last, process-wide, and importing
-    the fmpy master (assemblies.masters.cosim) registers its own: callbacks made once at
-    import would lose every message to it whenever another test module imports that
-    master after this one (test_terminate does). So each instantiation makes and
-    registers its own; all of them record into MESSAGES, and each check looks at the
-    messages its call added."""
-    def log(env, name, status, category, message):
-        messages.append((status, message.decode()))
-    cb = fmi2CallbackFunctions()
-    cb.logger = fmi2CallbackLoggerTYPE(log)
-    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-    addLoggerProxy(byref(cb))
-    return cb
-
-
 MESSAGES: list = []
-_KEEP = []  # every callbacks struct handed to an FMU, alive as long as the process
 
 
 def _registered():
-    """Fresh callbacks, registered now as the proxy's recipient (see _callbacks)."""
-    _KEEP.append(_callbacks(MESSAGES))
-    return _KEEP[-1]
+    """Fresh callbacks, registered now as the proxy's recipient (cs_slave.fmi2_callbacks):
+    all of them record (status, text) into MESSAGES, and each check looks at the messages
+    its call added."""
+    return fmi2_callbacks(lambda status, message: MESSAGES.append((status, message.decode())))
 
 
 def _open(component, kind, guid=None):
