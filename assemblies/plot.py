@@ -5,6 +5,8 @@ from __future__ import annotations
 import textwrap
 from pathlib import Path
 
+import numpy as np
+
 from .result import Result
 
 def pyplot():
@@ -42,6 +44,25 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
     return units
 
 
+# a column that stays within this fraction of its size is drawn as its change from the
+# start: matplotlib would otherwise label its ticks with an offset (1e-9+1.520398e-2)
+NEARLY_CONSTANT = 1e-3
+
+
+def panel_series(values, column: str, unit: str | None = None):
+    """(y values, y label, offset subtracted) of one panel. A nearly constant column (a
+    conserved energy) is drawn as its change from its first value, which the label
+    states, so the axis reads the drift in the column's unit."""
+    values = np.asarray(values, float)
+    finite = values[np.isfinite(values)]
+    unit_text = f" [{unit}]" if unit else ""
+    if len(finite) and finite[0] != 0 and (
+            np.ptp(finite) <= NEARLY_CONSTANT * np.max(np.abs(finite))):
+        start = float(values[0]) if np.isfinite(values[0]) else float(finite[0])
+        return values - start, f"{column} - {start:.10g}{unit_text}", start
+    return values, f"{column}{unit_text}", 0.0
+
+
 def plot_result(result: Result, columns: list[str], title: str, path: str | Path,
                 units: dict[str, str] | None = None) -> None:
     plt = pyplot()
@@ -49,13 +70,15 @@ def plot_result(result: Result, columns: list[str], title: str, path: str | Path
     fig, axes = plt.subplots(len(columns), 1, sharex=True, figsize=(8, 2.2 * len(columns) + 0.8),
                              squeeze=False)
     for ax, column in zip(axes[:, 0], columns):
-        ax.plot(result["time"], result[column], lw=1.2, label=column)
+        values, ylabel, offset = panel_series(result[column], column, units.get(column))
+        ax.plot(result["time"], values, lw=1.2, label=column)
         instance = column.split(".")[0]
         events = result.events.get(instance)
         if events is not None and column in events:
-            ax.plot(events["time"], events[column], "o", ms=3.5, color="tab:red",
-                    label="events located by the FMU")
-        ax.set_ylabel(f"{column} [{units[column]}]" if column in units else column)
+            ax.plot(events["time"], np.asarray(events[column], float) - offset, "o", ms=3.5,
+                    color="tab:red", label="events located by the FMU")
+        ax.set_ylabel(ylabel)
+        ax.ticklabel_format(axis="y", useOffset=False)  # a tick reads as its value
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", fontsize=8)
     axes[-1, 0].set_xlabel("time [s]")

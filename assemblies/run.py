@@ -236,6 +236,7 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     result.settings["pruned"] = pruned
     run = SceneRun(name, result, sc.figures(result, asm))
     result.figures = run.figures
+    result.assembly = asm  # the values the run used: a picture draws with them (--param)
     if out is not None:
         result.to_csv(out / f"{name}.csv")
         title, png = f"{name}: {sc.description}", out / f"{name}.png"

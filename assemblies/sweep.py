@@ -219,6 +219,8 @@ def run_one(sc: Scene, index: int, values: dict, settings: dict, outputs=(),
         run = run_scene_full(sc, params=values, **settings)
         for f in run.figures:
             row[f.name], row[f"{f.name}.ref"] = float(f.measured), float(f.reference)
+        # taken out of the row into the table's attrs by sweep()
+        row["units"] = {f.name: f.unit for f in run.figures if f.unit}
         row["passed"] = run.passed if run.figures else math.nan
         for out in outputs:
             row[out.label] = out.read(run.result)
@@ -278,9 +280,9 @@ def dask_client(workers: int | None = None, scheduler=None):
         yield client
 
 
-def _check_names(sc: Scene, names, outputs) -> None:
+def _check_names(sc: Scene, names, outputs) -> Assembly:
     """Every parameter and output the study names exists: one line now, not a failed
-    run per point."""
+    run per point. Returns the scene's assembly."""
     asm = sc.build()
     for name in names:
         instance, dot, key = name.partition(".")
@@ -297,6 +299,20 @@ def _check_names(sc: Scene, names, outputs) -> None:
             if out.column not in recorded:
                 raise SweepError(f"output '{out.label}': scene '{sc.name}' records "
                                  f"{', '.join(recorded)}")
+    return asm
+
+
+def _units(asm: Assembly, params, outputs, rows) -> dict[str, str]:
+    """The unit of each column that has one: a parameter's or an output's as its component
+    declares it, a figure's (and its reference's) as its description states it."""
+    from .plot import column_units
+    declared = column_units(asm, [*params, *(o.column for o in outputs)])
+    units = {name: declared[name] for name in params if name in declared}
+    units.update({o.label: declared[o.column] for o in outputs if o.column in declared})
+    for row in rows:
+        for name, unit in row.pop("units", {}).items():
+            units[name] = units[f"{name}.ref"] = unit
+    return units
 
 
 def _check_settings(sc: Scene, stop_time, step, tolerance, mode, engine, outputs,
@@ -359,7 +375,7 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     if out is not None:  # before the study, not after it
         out = writable_folder(out, "out", SweepError)
     runs = design(params, random, seed)
-    _check_names(sc, list(params), outputs)
+    asm = _check_names(sc, list(params), outputs)
     settings = {k: v for k, v in dict(stop_time=stop_time, step=step, tolerance=tolerance,
                                       mode=mode, engine=engine,
                                       start_time=start_time).items() if v is not None}
@@ -378,6 +394,7 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
     finally:
         getattr(report, "close", lambda: None)()
     wall = wallclock.perf_counter() - started
+    units = _units(asm, list(params), outputs, rows)
     table = pd.DataFrame(sorted(rows, key=lambda r: r["run"]))
     table.attrs = {"scene": sc.name, "description": sc.description,
                    "design": "grid" if random is None else "latin hypercube",
@@ -386,7 +403,8 @@ def sweep(target, params: dict, *, random: int | None = None, seed: int | None =
                               [x if isinstance(x, str) else float(x) for x in
                                parse_values(k, v)] for k, v in params.items()},
                    "varying": [k for k in params if len({str(r[k]) for r in runs}) > 1],
-                   "outputs": [o.label for o in outputs], "settings": settings,
+                   "outputs": [o.label for o in outputs], "units": units,
+                   "settings": settings,
                    "runs": len(runs), "failed": int((table["status"] == "failed").sum()),
                    "workers": n_workers, "scheduler": where, "wall_s": wall,
                    "runs_per_s": len(runs) / wall if wall > 0 else math.inf}

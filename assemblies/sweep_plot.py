@@ -38,11 +38,18 @@ def check_columns(table: pd.DataFrame, columns: list[str]) -> None:
                              f"columns: {', '.join(table.columns)}")
 
 
+def labelled(table: pd.DataFrame, column: str) -> str:
+    """`column` with its unit, as the study found it declared (``table.attrs["units"]``:
+    a component's variable or a figure's description); bare where it has none."""
+    unit = table.attrs.get("units", {}).get(column)
+    return f"{column} [{unit}]" if unit else column
+
+
 def plot_sweep(table: pd.DataFrame, varying: list[str], columns: list[str],
                path: str | Path) -> None:
     """One panel per column: over one parameter a line (with the figure's reference,
     dashed, where it has one), over two a coloured map (cells for a grid, points for a
-    random design)."""
+    random design). Axes carry the columns' units."""
     check_columns(table, columns)
     ok, failed = table[table["status"] == "ok"], table[table["status"] == "failed"]
     fig, axes = plt.subplots(len(columns), 1, figsize=(7.5, 2.6 * len(columns) + 0.9),
@@ -50,10 +57,12 @@ def plot_sweep(table: pd.DataFrame, varying: list[str], columns: list[str],
     for ax, column in zip(axes[:, 0], columns):
         if len(varying) == 1:
             _line(ax, ok, failed, varying[0], column)
+            ax.set_ylabel(labelled(table, column))
         else:
             _map(ax, fig, ok, failed, varying[0], varying[1], column,
-                 table.attrs.get("design", "grid") == "grid")
-    axes[-1, 0].set_xlabel(varying[0])
+                 table.attrs.get("design", "grid") == "grid", labelled(table, column))
+            ax.set_ylabel(labelled(table, varying[1]))
+    axes[-1, 0].set_xlabel(labelled(table, varying[0]))
     title = f"{table.attrs.get('scene', '')}: {table.attrs.get('description', '')}"
     fig.suptitle(textwrap.fill(f"{title} ({len(table)} runs, {len(failed)} failed)", 90),
                  fontsize=10)
@@ -74,12 +83,11 @@ def _line(ax, ok, failed, x, column):
     values = values[np.isfinite(values)]
     if len(values) and values.min() > 0 and values.max() > 1e3 * values.min():
         ax.set_yscale("log")  # a growth against a bounded motion spans decades
-    ax.set_ylabel(column)
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
 
 
-def _map(ax, fig, ok, failed, x, y, column, is_grid):
+def _map(ax, fig, ok, failed, x, y, column, is_grid, label):
     if is_grid:  # cells; a failed run's is left blank
         grid = ok.pivot_table(index=y, columns=x, values=column, aggfunc="first",
                               dropna=False)
@@ -87,11 +95,10 @@ def _map(ax, fig, ok, failed, x, y, column, is_grid):
                              grid.to_numpy(float), shading="nearest")
     else:
         mesh = ax.scatter(ok[x], ok[y], c=ok[column], s=28)
-    fig.colorbar(mesh, ax=ax, label=column)
+    fig.colorbar(mesh, ax=ax, label=label)
     if len(failed):
         ax.plot(failed[x], failed[y], "x", color="tab:red", label="failed run")
         ax.legend(loc="best", fontsize=8)
-    ax.set_ylabel(y)
 
 
-__all__ = ["check_columns", "default_columns", "plot_sweep"]
+__all__ = ["check_columns", "default_columns", "labelled", "plot_sweep"]

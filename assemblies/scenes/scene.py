@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -31,6 +32,12 @@ class Figure:
     def __post_init__(self):
         if self.accuracy < 0:  # False for NaN: an unstated accuracy is allowed, and fails
             raise ValueError(f"figure '{self.name}': accuracy must be >= 0, not {self.accuracy}")
+
+    @property
+    def unit(self) -> str | None:
+        """The unit the description states, as "[unit]" (its first bracket), or None."""
+        found = re.search(r"\[([^\[\]]+)\]", self.description)
+        return found.group(1) if found else None
 
     @property
     def error(self) -> float:

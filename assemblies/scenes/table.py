@@ -22,6 +22,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .references import earliest_zero
 from .scene import Figure, Scene
+from .table_plot import plot_table
 
 U, OMEGA, MU, G, M = 0.1, 20.0, 0.4, 1.0, 1.0
 PERIOD = 2 * math.pi / OMEGA
@@ -292,12 +293,12 @@ TABLE_SCENES: dict[str, Scene] = {
     "moving_table": Scene(
         "moving_table", "seed 9.6 ex. 1: block sliding on a table shaken as U sin(wt)",
         _moving_table, stop_time=64 * PERIOD, step=PERIOD / 16, tolerance=1e-8,
-        record=_RECORD, figures=_moving_table_figures, plot=["block.s", "block.v"],
+        record=_RECORD, figures=_moving_table_figures, picture=plot_table,
         seed="9.6 ex. 1", reference="decay rate 2μ/(πωU) = 0.1273"),
     "conveyor": Scene(
         "conveyor", "seed 9.6 ex. 2: asymmetric shaking conveys the block at a steady speed",
         _conveyor, stop_time=120 * PERIOD, step=PERIOD / 16, tolerance=1e-8,
-        record=_RECORD, figures=_conveyor_figures, plot=["block.s", "block.v"],
+        record=_RECORD, figures=_conveyor_figures, picture=plot_table,
         seed="9.6 ex. 2",
         reference="the exact periodic Coulomb speed 1.070164 (the seed's median estimate: 1.069)"),
 }
