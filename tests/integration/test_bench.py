@@ -84,3 +84,29 @@ def test_coin_baseline_agrees_with_the_component_and_with_lagrange():
         assert np.abs(mine - theirs).max() < 1e-10 * scale
         lagrange, _ = accelerations(state[2:], m, R, g)
         assert np.abs(mine[5:] - lagrange).max() < 1e-10 * scale
+
+
+def test_a_flat_curve_is_followed_until_the_tolerance_binds(stick_slip_case):
+    """Stepped once per 0.1 s output interval, the CS FMU's DOPRI5 meets 1e-6 and 1e-8 with
+    one step per doStep (the same error and work at both: one point); the sweep goes on to
+    1e-10, where the tolerance binds, and the work–precision curve moves."""
+    lines = []
+    records = run_scene("stick_slip", log=lines.append, case=stick_slip_case,
+                        methods=("fmu_cs_dopri5",), tolerances=(1e-6, 1e-8))
+    assert [r["tolerance"] for r in records] == [1e-6, 1e-8, 1e-10]
+    loose, tight = records[1], records[2]
+    assert (records[0]["error"], records[0]["steps"]) == (loose["error"], loose["steps"])
+    # one step per doStep, plus the steps that end at the run's stick and slip events
+    assert loose["steps"] < 1.05 * (len(stick_slip_case.times) - 1)
+    assert tight["steps"] > 1.2 * loose["steps"] and tight["rhs_evals"] > loose["rhs_evals"]
+    assert tight["error"] < loose["error"] / 5
+    # measured against the exact piecewise solution, not against each other
+    _, x_of_t = coulomb_drag(1, 1, 1, 0.3, 0.4, 0.05, 100.0)
+    assert tight["error"] == pytest.approx(
+        max_error(stick_slip_case.methods["fmu_cs_dopri5"](1e-10, False)[0],
+                  x_of_t(stick_slip_case.times)), rel=1e-6)
+    assert any("did not bind" in line for line in lines)
+    # a curve that moves is not extended
+    moving = run_scene("stick_slip", log=lambda *_: None, case=stick_slip_case,
+                       methods=("fmu_cs_dopri5",), tolerances=(1e-8, 1e-10))
+    assert [r["tolerance"] for r in moving] == [1e-8, 1e-10]
