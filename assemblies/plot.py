@@ -24,23 +24,38 @@ TITLE_SIZE, TITLE_WIDTH = 10, 95
 
 
 def column_units(assembly, columns: list[str]) -> dict[str, str]:
-    """The unit each ``instance.variable`` column is declared with, where one of our
-    components declares it (a foreign FMU's columns are left out: no equations to ask)."""
-    from components.component import Component
-    from components.dae import flatten
-    units, flat = {}, {}
+    """The unit each ``instance.variable`` column is declared with: by one of our
+    components' equations, or by a foreign FMU's model description (or the units= it was
+    added with); a column nobody declares a unit for is left out."""
+    units, declared = {}, {}
     for column in columns:
         instance, _, name = column.partition(".")
         component = assembly.components.get(instance)
-        if not isinstance(component, Component):
+        if component is None:
             continue
-        if instance not in flat:
-            model = flatten(component)
-            flat[instance] = {v.name: v.unit for v in
-                              (*model.states, *model.outputs, *model.inputs, *model.parameters)}
-        unit = flat[instance].get(name)
+        if instance not in declared:
+            declared[instance] = _declared_units(component)
+        unit = declared[instance].get(name)
         if unit:
             units[column] = unit
+    return units
+
+
+def _declared_units(component) -> dict[str, str]:
+    from components.component import Component
+    if isinstance(component, Component):
+        from components.dae import flatten
+        model = flatten(component)
+        return {v.name: v.unit for v in
+                (*model.states, *model.outputs, *model.inputs, *model.parameters)}
+    md = getattr(component, "model_description", None)  # assemblies.foreign.FMU
+    if md is None:
+        return {}
+    units = {v.name: v.unit or (v.declaredType.unit if v.declaredType is not None else None)
+             for v in md.modelVariables}
+    for port in getattr(component, "ports", ()):  # a signal port's unit, units= included
+        if port.domain.flow is None and port.domain.across[0][1]:
+            units[port.name] = port.domain.across[0][1]
     return units
 
 
