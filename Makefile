@@ -2,7 +2,7 @@
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: demo test asan
+.PHONY: demo test docs asan
 
 # pip -qq: setuptools' generic advice on editable installs is not for a newcomer's screen
 # (errors still print)
@@ -15,6 +15,11 @@ $(VENV)/.installed: pyproject.toml
 # the main job: the stick-slip scene, its result table, CSV, JSON and plot in out/
 demo: $(VENV)/.installed
 	$(VENV)/bin/mechfmu run stick_slip --out out
+
+# the API reference, generated from the docstrings (pdoc): docs/api/index.html
+# (pdoc comes with the test extra that .venv installs; elsewhere: pip install -e '.[docs]')
+docs: $(VENV)/.installed
+	$(PY) docs/build_api.py docs/api
 
 # the test suite, a file per worker on every core (pytest-xdist: FMU builds and runs are
 # CPU-bound); pytest's exit code 5 (nothing collected) is a failure, not green

@@ -118,7 +118,12 @@ def compile_library(c_files: list[Path], library: Path, include_dirs: list[Path]
     # gcc runs without a sanitizer runtime preloaded into Python (make asan): it is not
     # ours to check, and its own leaks would be reported as if they were
     env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
-    result = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    try:
+        result = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    except FileNotFoundError:  # no compiler: a setup problem, said in one line
+        raise BuildError(f"cannot build {what}: gcc is not on PATH; mechfmu compiles every FMU "
+                         "and its engine with gcc (install it, e.g. apt-get install gcc); a run "
+                         "whose FMUs and engine are already in the cache needs none") from None
     if result.returncode != 0:
         raise BuildError(f"gcc failed for {what}:\n{result.stderr}")
 
@@ -145,6 +150,8 @@ def cached_library(folder: str, stem: str, sources: list[Path], include_dirs: li
         integrity.report(target, f"library of {what}", announce)
         integrity.discard(target)
     if not target.exists():
+        if announce:  # seconds of gcc: a first run says why it is slow
+            announce(f"compiling {what} (once per machine)")
         target.parent.mkdir(parents=True, exist_ok=True)
         partial = target.with_suffix(f".{os.getpid()}.partial")
         compile_library([p for p in sources if p.suffix == ".c"], partial, include_dirs, what,
