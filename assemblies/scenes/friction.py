@@ -10,6 +10,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .friction_references import (creep_speed, smooth_law_peak, smooth_mode_slip_bracket,
                                   smooth_turning_allowance)
+from .located import continue_to_rest
 from .references import friction_damping_turning_points, stick_slip_first_cycle
 from .scene import Figure, Scene, solver_accuracy
 
@@ -103,9 +104,9 @@ def _turning_points(result: Result, asm: Assembly) -> list[tuple[float, float]]:
     reverses (mode flips sign), located by the FMU at x' = 0 itself; leaving rest (0 to
     +-1) is not one. A smooth law never stops exactly: its mode turns 0 where |x'| falls
     below 1.5 eps, a located event a little before the turn (|x'| / x'' ~ 2e-4 s
-    for the scene's eps); from that event's state the scene's own equation of motion is
-    integrated the rest of the way to x' = 0 (_continue_to_rest), so the turning point
-    carries the solver's error at the event and nothing of the output grid."""
+    for the scene's eps); from that event's state the block's own equation of motion is
+    integrated the rest of the way to x' = 0 (located.continue_to_rest), so the turning
+    point carries the solver's error at the event and nothing of the output grid."""
     block = asm.component("block")
     law = block.option("friction")
     points = [(0.0, result["block.x"][0])]
@@ -117,43 +118,10 @@ def _turning_points(result: Result, asm: Assembly) -> list[tuple[float, float]]:
             if mode != previous and (mode == 0 or mode * previous < 0):
                 points.append((events["time"][i], events["block.x"][i]))
         elif mode == 0 and previous != 0:
-            points.append(_continue_to_rest(asm, events["time"][i], events["block.x"][i],
-                                            events["block.v"][i]))
+            points.append(continue_to_rest(asm, "block", "wall", events["time"][i],
+                                           events["block.x"][i], events["block.v"][i]))
         previous = mode
     return points
-
-
-def _continue_to_rest(asm: Assembly, t0: float, x0: float, v0: float) -> tuple[float, float]:
-    """(t, x) where x' first reaches 0 after (t0, x0, v0), by the block's equation of
-    motion under its smooth law (m x'' = k (s_wall - x) + d (v_wall - x') - mu(x'/eps) m g,
-    SpringBlock's with the wall of ConstantSpeed), integrated by an 8th-order method to
-    1e-13: over the ~|v0| / x'' this spans its error is rounding's, far below the
-    solver's at the event it starts from. NaN where x' does not reach 0 while the spring
-    alone could stop the block twice over (it creeps on instead)."""
-    from scipy.integrate import solve_ivp
-
-    from .friction_references import law_coefficient
-
-    block, wall = asm.component("block"), asm.component("wall").values
-    p, law = block.values, block.option("friction")
-    m, k, d, g, eps = p["m"], p["k"], p["d"], p["g"], p["eps"]
-
-    def motion(t, y):
-        x, v = y
-        spring = k * (wall["s0"] + wall["v"] * t - x) + d * (wall["v"] - v)
-        mu = float(law_coefficient(law, v / eps, p["mu_k"], p["mu_s"]))
-        return [v, (spring - mu * m * g) / m]
-
-    def at_rest(t, y):
-        return y[1]
-    at_rest.terminal, at_rest.direction = True, -math.copysign(1.0, v0)
-    pull = k * abs(wall["s0"] + wall["v"] * t0 - x0) / m
-    span = 2 * abs(v0) / pull if pull > 0 else 0.0
-    sol = solve_ivp(motion, (t0, t0 + span), [x0, v0], method="DOP853", events=at_rest,
-                    rtol=1e-13, atol=1e-16 * max(1.0, abs(x0)))
-    if not len(sol.t_events[0]):
-        return math.nan, math.nan
-    return float(sol.t_events[0][0]), float(sol.y_events[0][0][0])
 
 
 def _friction_damping_figures(result: Result, asm: Assembly) -> list[Figure]:
