@@ -10,7 +10,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .friction_references import (creep_speed, smooth_law_peak, smooth_mode_slip_bracket,
                                   smooth_turning_allowance)
-from .located import continue_to_rest
+from .located import continue_to_rest, continue_to_speed
 from .references import friction_damping_turning_points, stick_slip_first_cycle
 from .scene import Figure, Scene, solver_accuracy
 
@@ -48,17 +48,41 @@ def _stick_slip_figures(result: Result, asm: Assembly) -> list[Figure]:
                    allowed[0] + solver_accuracy(result, exact[0]))
     if law == "tanh":
         # Eq. 9.7 has no stiction: its limit is Coulomb friction with mu_s = mu_k, whose
-        # slide only touches rest (tangentially) and never sticks again, and the law,
-        # weaker than mu_k near rest, keeps the block moving: no re-stick to compare
-        restuck = sum(1 for t, _, mode in events if mode == 0 and t > slip[0])
-        return [first, Figure("restick", "re-sticks after the first slip (Eq. 9.7 has no "
-                              "stiction: none, unlike Coulomb's t2 = "
-                              f"{exact[1]:.4f} s)", restuck, 0, 0.0)]
+        # slide only touches rest (tangentially) and never sticks again. The law's block
+        # dips into |x'| < 1.5 eps there (its mode turns 0, a located event), but at rest
+        # its friction vanishes while the spring, stretched by about mu_k m g / k, pulls
+        # on: x' never reaches 0. Each dip is followed from its event to where the mode
+        # leaves 0 again, and counts if x' reaches 0 in it
+        return [first, Figure("rests", "times the block comes to rest (x' = 0) after the "
+                              "first slip (Eq. 9.7 has no stiction: none, unlike Coulomb's "
+                              f"re-stick at t2 = {exact[1]:.4f} s)",
+                              _rests(result, asm, slip[0]), 0, 0.0)]
     return [first,
             Figure("t2", f"first re-stick time [s]{what}", stick[0], exact[1],
                    allowed[1] + solver_accuracy(result, exact[1])),
             Figure("x(t2)", f"position at re-stick [m]{what}", stick[1], exact[2],
                    allowed[2] + solver_accuracy(result, exact[2]))]
+
+
+def _rests(result: Result, asm: Assembly, after: float, end: str = "driver") -> float:
+    """How many of the smooth law's dips into |x'| < 1.5 eps after `after` reach x' = 0,
+    each followed by the block's own equation (its spring's end moved by `end`) from the
+    event where the mode turned 0 to the next event (or the end of the run); NaN if the
+    first slip never came."""
+    if math.isnan(after):
+        return math.nan
+    events = _mode_events(result, "block")
+    v = result.events["block"]["block.v"]
+    t_stop = float(result["time"][-1])
+    rests = 0
+    for i, (t, x, mode) in enumerate(events):
+        if t <= after or mode != 0:
+            continue
+        until = events[i + 1][0] if i + 1 < len(events) else t_stop
+        if not math.isnan(continue_to_speed(asm, "block", end, t, x, v[i], 0.0,
+                                            until - t)[0]):
+            rests += 1
+    return float(rests)
 
 
 def _smooth_law_allowance(law: str, p: dict, speed: float) -> tuple[float, float, float]:
