@@ -36,7 +36,7 @@ def continue_to_speed(asm: Assembly, block: str, end: str, t0: float, x0: float,
     integrating ``m x'' = k (s_end - x) + d (v_end - x') - mu(x'/eps) m g`` (SpringBlock
     under its smooth law on a fixed surface, its spring's end moved by `end`) forwards
     (span > 0) or backwards (span < 0) over at most |span| seconds. NaN where x' does not
-    get there within the span."""
+    get there within the span, or only grazes it."""
     from scipy.integrate import solve_ivp
 
     from .friction_references import law_coefficient
@@ -66,7 +66,14 @@ def continue_to_speed(asm: Assembly, block: str, end: str, t0: float, x0: float,
                     rtol=1e-13, atol=1e-16 * max(1.0, abs(x0)))
     if not len(sol.t_events[0]):
         return math.nan, math.nan
-    return float(sol.t_events[0][0]), float(sol.y_events[0][0][0])
+    t, (x, v) = float(sol.t_events[0][0]), sol.y_events[0][0]
+    # a crossing, not a graze: x' passes the target with an acceleration the forces
+    # make, not one a rounding error makes on a speed that only approaches it
+    # (a free block's x' decays towards 0 for ever and dithers about it at 1e-17)
+    scale = g * max(p["mu_k"], p["mu_s"]) + abs(k * (s_end(t) - x) + d * v_end(t)) / m
+    if abs(motion(t, [x, v])[1]) <= 1e-9 * scale:
+        return math.nan, math.nan
+    return t, float(x)
 
 
 def continue_to_rest(asm: Assembly, block: str, end: str, t0: float, x0: float,
