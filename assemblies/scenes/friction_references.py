@@ -227,13 +227,13 @@ def smooth_turning_allowance(law: str, m, k, g, mu_k, mu_s, eps,
 
     The laws are Coulomb's kinetic mu_k outside |v| < LAW_BAND eps, so between turns the
     motion is Coulomb's half cycle exactly, only shifted in time and space by what each
-    band does differently. The block crosses a band in ~LAW_BAND eps / x'', during which
-    the spring force k|A| moves by a relative k (LAW_BAND eps)^2 / (2 m x''^2 |A|) (1e-5
-    for the scene's eps = 1e-3): frozen at k|A|, the time and distance from the band's
-    edge to rest (friction helping the spring back) and from rest to the far edge
-    (friction against it) are quadratures of 1 / (k|A|/m +- g mu(v/eps)), against
-    Coulomb's with mu_k, each taken at the end of the spring's range over the band
-    (k|A| -+ k V^2 / (2 x'')) where it is largest. Turning point n carries those of every
+    band does differently. Crossing a band (V = LAW_BAND eps) the block moves at most
+    V^2 / (2 |x''|), so the spring's pull per mass stays within k V^2 / (2 m |x''|) of
+    k|A|/m (under 1e-3 of it for the scene's eps = 1e-3). With the pull held fixed, the
+    time and distance from the band's edge to rest (friction helping the spring back)
+    and from rest to the far edge (friction against it) are quadratures of
+    1 / (pull +- g mu(v/eps)) against Coulomb's with mu_k; each is taken at whichever
+    end of the pull's range makes it largest. Turning point n carries those of every
     band before it plus the approach half of its own; summed in absolute value (the
     time shifts alternate in sign). An estimate, not a bound: the position shifts'
     effect on the phase (of order the distance shift over LAW_BAND eps) is left out,
