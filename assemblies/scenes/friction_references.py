@@ -192,6 +192,102 @@ def smooth_mode_slip_bracket(law: str, m, k, g, mu_k, mu_s, v, eps,
     return lower, upper
 
 
+#: beyond u = v / eps = 20 both smooth laws are mu_k to double precision (Eq. 9.7 differs by
+#: 2 mu_k e^-120; Eq. 9.5's stiction term by (mu_s - mu_k) 20 e^-199.5)
+LAW_BAND = 20.0
+
+
+def _band_integrals(law: str, accel: float, sign: int, g, mu_k, mu_s, eps):
+    """(time, distance) a smooth law takes over Coulomb's mu_k to cross |v| < LAW_BAND eps
+    at the frozen spring acceleration `accel`, friction helping it (sign +1: the approach
+    to rest) or opposing it (sign -1: leaving rest). inf where friction there can beat the
+    spring (the block would not leave rest the way Coulomb's reverses)."""
+    from scipy.integrate import quad
+
+    u = np.linspace(0.0, LAW_BAND, 4001)
+    if sign < 0 and float(np.min(accel - g * law_coefficient(law, u, mu_k, mu_s))) <= 0:
+        return math.inf, math.inf
+
+    def excess(u, power):
+        smooth = accel + sign * g * float(law_coefficient(law, u, mu_k, mu_s))
+        return u**power * (1.0 / smooth - 1.0 / (accel + sign * g * mu_k))
+
+    spots = [0.5, 1.0, 2.0, 4.0]  # where the laws bend: u ~ 1
+    time = quad(excess, 0.0, LAW_BAND, args=(0,), points=spots, epsabs=0, limit=200)[0]
+    distance = quad(excess, 0.0, LAW_BAND, args=(1,), points=spots, epsabs=0, limit=200)[0]
+    return eps * time, eps**2 * distance
+
+
+def smooth_turning_allowance(law: str, m, k, g, mu_k, mu_s, eps,
+                             amplitudes: list[float]) -> list[tuple[float, float]]:
+    """How far a smooth law's turning points (x' = 0) may lie from exact Coulomb
+    friction's in seed 9.4, where the block swings about a fixed end through turning
+    points at distances `amplitudes` from it (A_0 the release from rest): [(time,
+    position)] for each.
+
+    The laws are Coulomb's kinetic mu_k outside |v| < LAW_BAND eps, so between turns the
+    motion is Coulomb's half cycle exactly, only shifted in time and space by what each
+    band does differently. Crossing a band (V = LAW_BAND eps) the block moves at most
+    V^2 / (2 |x''|), so the spring's pull per mass stays within k V^2 / (2 m |x''|) of
+    k|A|/m (under 1e-3 of it for the scene's eps = 1e-3). With the pull held fixed, the
+    time and distance from the band's edge to rest (friction helping the spring back)
+    and from rest to the far edge (friction against it) are quadratures of
+    1 / (pull +- g mu(v/eps)) against Coulomb's with mu_k; each is taken at whichever
+    end of the pull's range makes it largest. Turning point n carries those of every
+    band before it plus the approach half of its own; summed in absolute value (the
+    time shifts alternate in sign). An estimate, not a bound: the position shifts'
+    effect on the phase (of order the distance shift over LAW_BAND eps) is left out,
+    far smaller than the sum for eps << |A| sqrt(k/m); where friction in a band can
+    beat the spring (the block would stay at rest, unlike Coulomb's) it is inf.
+    """
+    mu_sup = float(np.max(law_coefficient(law, np.linspace(0.0, LAW_BAND, 4001), mu_k, mu_s)))
+
+    def band(accel, sign):
+        # the spring moves by at most k/m times the band's length, V^2 / (2 x''): the
+        # integrals, monotone in the spring's pull, are largest at one end of that range
+        slowest = accel if sign > 0 else accel - g * mu_sup  # the least |x''| in the band
+        if slowest <= 0:
+            return math.inf, math.inf
+        spread = k / m * (LAW_BAND * eps) ** 2 / (2 * slowest)
+        ends = [_band_integrals(law, a, sign, g, mu_k, mu_s, eps)
+                for a in (accel - spread, accel + spread)]
+        return max(abs(e[0]) for e in ends), max(abs(e[1]) for e in ends)
+
+    shifts = []
+    for i, amplitude in enumerate(amplitudes):
+        accel = k * abs(amplitude) / m
+        approach = (0.0, 0.0) if i == 0 else band(accel, 1)
+        leave = band(accel, -1) if i < len(amplitudes) - 1 else (0.0, 0.0)
+        shifts.append((approach, leave))
+    allowance, carried_t, carried_x = [], 0.0, 0.0
+    for (approach_t, approach_x), (leave_t, leave_x) in shifts:
+        allowance.append((carried_t + abs(approach_t), carried_x + abs(approach_x)))
+        carried_t += abs(approach_t) + abs(leave_t)
+        carried_x += abs(approach_x) + abs(leave_x)
+    return allowance
+
+
+def creep_speed(law: str, m, g, mu_k, mu_s, eps, spring_force: float) -> float:
+    """The largest speed a block at rest under a smooth law reaches while a spring force
+    of at most `spring_force` pulls it and friction opposes: the least v > 0 where the
+    law's friction mu(v / eps) m g balances the force (the block accelerates from rest
+    until it gets there and, the force never larger, never passes it). inf where the law
+    never balances it (the block slides off)."""
+    from scipy.optimize import brentq
+
+    need = spring_force / (m * g)
+    if need <= 0:
+        return 0.0
+    u = np.linspace(0.0, LAW_BAND, 20001)
+    above = np.flatnonzero(law_coefficient(law, u, mu_k, mu_s) >= need)
+    if not len(above):
+        return math.inf
+    j = int(above[0])
+    root = brentq(lambda s: float(law_coefficient(law, s, mu_k, mu_s)) - need, u[j - 1], u[j],
+                  xtol=1e-15, rtol=8.9e-16)
+    return eps * root
+
+
 def richardson_bound(coarse: float, fine: float, ratio: float, order: float) -> float:
     """The error at the coarse parameter from a convergence study with parameters in the
     given ratio: |coarse - fine| / (1 - ratio^-order). An upper bound when the error is a
@@ -404,9 +500,9 @@ def slide_ends(phases: list[Phase]) -> list[Phase]:
     return [ph for prev, ph in zip(phases, phases[1:]) if prev.mode != 0]
 
 
-__all__ = ["DrivenCoulombBlock", "Phase", "StickSlipCycle", "chain_first_slip",
-           "damped_first_slip", "damped_stick_slip", "half_period_turning_points",
+__all__ = ["LAW_BAND", "DrivenCoulombBlock", "Phase", "StickSlipCycle", "chain_first_slip",
+           "creep_speed", "damped_first_slip", "damped_stick_slip", "half_period_turning_points",
            "perturbation_decay_rate", "resonance_growth_rate", "resonance_threshold",
            "richardson_bound", "sliding_perturbation", "slide_ends",
            "smooth_friction_coefficient", "smooth_law_peak", "smooth_slip_bracket",
-           "steady_sliding_lag", "two_halves_rear_slip"]
+           "smooth_turning_allowance", "steady_sliding_lag", "two_halves_rear_slip"]

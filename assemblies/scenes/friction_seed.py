@@ -34,6 +34,7 @@ from .friction_references import (DrivenCoulombBlock, chain_first_slip, damped_f
                                   steady_sliding_lag, two_halves_rear_slip)
 from .friction_seed_plot import (plot_distinguished_limit, plot_resonance, plot_smooth,
                                  plot_sliding)
+from .located import continue_to_speed
 from .references import stick_slip_first_cycle
 from .scene import Figure, Scene
 
@@ -480,23 +481,36 @@ def _stick_slip_smooth() -> Assembly:
     return asm
 
 
-def _gross_slip(result: Result, name: str, level: float) -> tuple[float, float]:
+GROSS_SLIP_SEARCH = 1.0  # [s] how far from a mode event its gross-slip instant is sought
+
+
+def _gross_slip(result: Result, asm: Assembly, name: str, level: float) -> tuple[float, float]:
     """(start, end) of the first gross slip: x' first rises through `level`, then falls
-    back through it, from the cubic Hermite interpolant of (x', x'')."""
-    t, v, a = result["time"], result[f"{name}.v"], result[f"{name}.a"]
-    spline = CubicHermiteSpline(t, v - level, a)
-    roots = spline.roots(extrapolate=False)
-    up = [r for r in roots if spline(r, 1) > 0]
-    down = [r for r in roots if up and r > up[0] and spline(r, 1) < 0]
-    return (float(up[0]) if up else math.nan, float(down[0]) if down else math.nan)
+    back through it. Both lie just beside the mode's located events, the first slip (x'
+    up through 3 eps) and the first stick after it (x' down through 1.5 eps): from each
+    the block's equation of motion carries the event's state to x' = level, backwards
+    and forwards (:func:`.located.continue_to_speed`), so both are located to the
+    solver's accuracy whatever the output step."""
+    changes = mode_changes(result, name)
+    slip = next((c for c in changes if c[2] == 0 and c[3] != 0), None)
+    stick = next((c for c in changes if slip and c[0] > slip[0] and c[3] == 0), None)
+    ev = result.events.get(name)
+
+    def located(change, direction):
+        if change is None:
+            return math.nan
+        i = int(np.flatnonzero(ev["time"] == change[0])[0])
+        return continue_to_speed(asm, name, f"{name}_end", change[0], change[1],
+                                 ev[f"{name}.v"][i], level, direction * GROSS_SLIP_SEARCH)[0]
+    return located(slip, -1), located(stick, 1)
 
 
 def _stick_slip_smooth_figures(result: Result, asm: Assembly) -> list[Figure]:
     b, v = asm.component("smooth").values, asm.component("smooth_end").values["v"]
     eps, eps_fine = b["eps"], asm.component("finer").values["eps"]
     u_star, mu_max = smooth_law_peak(b["mu_k"], b["mu_s"])
-    coarse = _gross_slip(result, "smooth", u_star * eps)
-    fine = _gross_slip(result, "finer", u_star * eps_fine)
+    coarse = _gross_slip(result, asm, "smooth", u_star * eps)
+    fine = _gross_slip(result, asm, "finer", u_star * eps_fine)
     exact = stick_slip_first_cycle(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v)
     # As eps -> 0 Eq. 9.5 is Coulomb friction with mu_s replaced by its peak mu_max: that
     # shift is a closed form. What eps adds delays both instants (the creep before the slip
@@ -548,7 +562,7 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         "stick_slip_smooth", "seed 9.2, Fig. 9.4: the smooth friction law Eq. 9.5 "
         "(eps = 1e-3, and 1e-4) against the exact stick-slip's t1 and t2",
         _stick_slip_smooth, stop_time=30.0, step=0.01, tolerance=1e-8,
-        record=_blocks_record(("smooth", "finer"), ("x", "v", "a", "f_friction")),
+        record=_blocks_record(("smooth", "finer"), ("x", "v", "a", "f_friction", "mode")),
         figures=_stick_slip_smooth_figures, picture=plot_smooth, seed="9.2, Fig. 9.4",
         reference="exact t1 = 8, t2 = 12.0689, within Eq. 9.5's peak deficit (μmax = 0.39868) "
                   "and an ε → ε/10 convergence bound; rigorous bounds on the slip onset"),

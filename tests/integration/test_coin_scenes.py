@@ -122,3 +122,18 @@ def test_scene_figures_meet_their_references(name, tmp_path):
         assert f.passed, f
     if name.startswith("coin"):
         plot_coin(res, name, tmp_path / f"{name}.png")
+
+
+@pytest.mark.parametrize("step", [0.01, 2.0])
+def test_flip_growth_crossing_is_interpolated_within_its_stated_accuracy(step):
+    """torque_free_flip's growth rate comes from where w_x reaches 10 xi0, located on the
+    cubic Hermite interpolant of w_x with Euler's w_x' (seed 8.3); its accuracy states the
+    interpolant's O((lam h)^4) error, so an output step of 2 s (a third of the time to
+    the crossing) still meets it, against the closed form lam = W sqrt((I_yy - I_xx)
+    (I_zz - I_yy) / (I_xx I_zz)) = 1 / sqrt(3)."""
+    from assemblies.run import run_scene_full
+    growth = next(f for f in run_scene_full("torque_free_flip", stop_time=10.0,
+                                            step=step).figures if f.name == "growth")
+    assert growth.reference == pytest.approx(1 / math.sqrt(3), rel=1e-14)
+    assert growth.passed, (growth.measured, growth.error, growth.bound)
+    assert growth.error < 0.01 * growth.reference

@@ -117,3 +117,30 @@ def test_the_engines_automatic_choice_sees_no_slip_in_the_stick_phase():
                                                for f in run.figures]
     # one event per slip and per re-stick over 40 s
     assert run.result.settings["events"] == 8
+
+
+@pytest.mark.parametrize("mode", ["cosim", "me", "monolithic"])
+def test_tanh_law_at_the_default_eps_dips_towards_rest_but_never_reaches_it(mode):
+    """Eq. 9.7 at eps = 1e-3: after its first slip the block's slide touches rest as
+    Coulomb's with mu_s = mu_k does, so it dips into |x'| < 1.5 eps (its mode turns 0)
+    every cycle; but friction vanishes at rest while the spring pulls on, so x' never
+    reaches 0. The figure follows each dip from its located event: no rest, every figure
+    passes (counting mode changes reported 5 re-sticks and failed)."""
+    run = run_scene_full("stick_slip", mode=mode, params={"block.friction": "tanh"})
+    events = run.result.events["block"]
+    t1 = next(f for f in run.figures if f.name == "t1").measured
+    dips = [t for t, mode_ in zip(events["time"], events["block.mode"]) if t > t1 and mode_ == 0]
+    assert len(dips) >= 3
+    assert next(f for f in run.figures if f.name == "rests").measured == 0
+    assert all(f.passed for f in run.figures), run.table()
+
+
+def test_the_rest_count_sees_a_block_that_does_come_to_rest():
+    """The same count on friction_damping under Eq. 9.7, whose block stops and turns back
+    at each of its five turning points after the release: five rests."""
+    from assemblies.scenes import SCENES
+    from assemblies.scenes.friction import _rests
+    run = run_scene_full("friction_damping", params={"block.friction": "tanh"})
+    asm = SCENES["friction_damping"].build()
+    asm.component("block").set("friction", "tanh")
+    assert _rests(run.result, asm, 0.0, end="wall") == 5

@@ -9,10 +9,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from assemblies.scenes.friction_references import (
-    DrivenCoulombBlock, chain_first_slip, damped_stick_slip, half_period_turning_points,
-    resonance_growth_rate, resonance_threshold, richardson_bound, slide_ends,
-    sliding_perturbation, smooth_friction_coefficient, smooth_law_peak, smooth_slip_bracket,
-    steady_sliding_lag, two_halves_rear_slip)
+    DrivenCoulombBlock, chain_first_slip, creep_speed, damped_stick_slip,
+    half_period_turning_points, resonance_growth_rate, resonance_threshold, richardson_bound,
+    slide_ends, sliding_perturbation, smooth_friction_coefficient, smooth_law_peak,
+    smooth_slip_bracket, smooth_turning_allowance, steady_sliding_lag, two_halves_rear_slip)
 from assemblies.scenes.references import stick_slip_first_cycle
 
 RTOL = 1e-12
@@ -219,3 +219,54 @@ def test_two_halves_rear_slip_staircase():
     assert two_halves_rear_slip(1, 1, 1, 0.1, 0.4, 0.05) == pytest.approx(4.0)
     with pytest.raises(ValueError, match="mu_s > mu_k"):
         two_halves_rear_slip(1, 1, 1, 0.4, 0.4, 0.05)
+
+
+def _tanh_turning_points(eps, x0=6.55, mu=0.6, t_end=16.0):
+    def rhs(t, y):
+        return [y[1], -y[0] - mu * math.tanh(3 * y[1] / eps)]
+
+    def rest(t, y):
+        return y[1]
+    sol = solve_ivp(rhs, (0.0, t_end), [x0, 0.0], method="DOP853", events=rest,
+                    rtol=RTOL, atol=1e-14)
+    return [(0.0, x0)] + [(t, y[0]) for t, y in zip(sol.t_events[0], sol.y_events[0])
+                          if t > 1e-9]
+
+
+@pytest.mark.parametrize("eps", [1e-3, 1e-2])
+def test_smooth_turning_allowance_covers_the_laws_difference_from_coulomb(eps):
+    """Seed 9.4 under Eq. 9.7 (solve_ivp here) against exact Coulomb: every turning
+    point lies within the allowance, which is of first order in eps for times and second
+    for positions (the law differs from Coulomb only within a few eps of rest)."""
+    coulomb = [(n * math.pi, (-1) ** n * (6.55 - 1.2 * n)) for n in range(6)]
+    smooth = _tanh_turning_points(eps)
+    allowance = smooth_turning_allowance("tanh", 1, 1, 1, 0.6, 0.6, eps,
+                                         [x for _, x in coulomb])
+    assert len(smooth) >= 6
+    for (t, x), (t_c, x_c), (dt, dx) in zip(smooth, coulomb, allowance):
+        assert abs(t - t_c) <= dt + 1e-9 and abs(x - x_c) <= dx + 1e-10, (t, t_c, dt)
+    # the law's difference is real: at the last turn it is over a tenth of the allowance
+    assert abs(smooth[5][0] - coulomb[5][0]) > 0.1 * allowance[5][0]
+    finer = smooth_turning_allowance("tanh", 1, 1, 1, 0.6, 0.6, eps / 10,
+                                     [x for _, x in coulomb])
+    assert finer[3][0] == pytest.approx(allowance[3][0] / 10, rel=0.02)
+    assert finer[3][1] == pytest.approx(allowance[3][1] / 100, rel=0.02)
+
+
+def test_smooth_turning_allowance_is_inf_where_the_law_holds_the_block():
+    """Eq. 9.5 with mu_s = 0.9 peaks near 0.9 > k |A| / m g = 0.8 for A = 0.8: the block
+    would not leave rest there as Coulomb's (mu_k = 0.6) does."""
+    allowance = smooth_turning_allowance("smooth", 1, 1, 1, 0.6, 0.9, 1e-3, [2.0, -0.8, 0.5])
+    assert math.isfinite(allowance[1][0]) and allowance[2] == (math.inf, math.inf)
+
+
+def test_creep_speed_balances_the_spring():
+    # Eq. 9.7: mu_k tanh(3 v / eps) m g = F in closed form
+    assert creep_speed("tanh", 1, 1, 0.6, 0.6, 1e-3, 0.55) == pytest.approx(
+        1e-3 / 3 * math.atanh(0.55 / 0.6), rel=1e-12)
+    assert creep_speed("tanh", 1, 1, 0.6, 0.6, 1e-3, 0.7) == math.inf
+    # Eq. 9.5: the least speed where the law reaches the force, below its peak
+    v = creep_speed("smooth", 1, 1, 0.3, 0.4, 1e-3, 0.35)
+    u = np.linspace(0, v / 1e-3, 1000)
+    assert smooth_friction_coefficient(v / 1e-3, 0.3, 0.4) == pytest.approx(0.35, rel=1e-12)
+    assert (smooth_friction_coefficient(u[:-1], 0.3, 0.4) < 0.35).all()
