@@ -253,7 +253,8 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("component", help="a component's name, as `mechfmu components` lists them")
     b.add_argument("-o", "--output", required=True, help="the .fmu file to write")
     b.add_argument("--fmi", type=int, choices=(2, 3), default=3,
-                   help="FMI version of the FMU (default: 3)")
+                   help="FMI version of the FMU (default: 3, as every command and function "
+                        "that writes an FMU)")
     b.add_argument("--profile", help="causality profile (default: the component's first; "
                                      "`mechfmu show COMPONENT` lists them)")
     b.add_argument("--param", action="append", metavar="NAME=VALUE",
@@ -319,8 +320,10 @@ def _parser() -> argparse.ArgumentParser:
                         "'me'; then Model Exchange too)")
     x.add_argument("--composite", metavar="FILE.fmu",
                    help="the joined (monolithic) model of our components as one FMU")
-    x.add_argument("--fmi", type=int, choices=(2, 3), default=2,
-                   help="FMI version of --fmu and --composite (default 2)")
+    x.add_argument("--fmi", type=int, choices=(2, 3), default=3,
+                   help="FMI version of --fmu and --composite (default: 3, as every command "
+                        "and function that writes an FMU; --ssp's members are FMI 2, what "
+                        "fmpy's SSP runner instantiates)")
     x.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
     x.set_defaults(fn=_cmd_export)
