@@ -22,7 +22,7 @@ _WHERE = {
     "SimulationError": ".masters.cosim",
     "composite": ".masters.monolithic",
     "Result": ".result", "Table": ".result",
-    "run_scene": ".run", "run_scene_full": ".run",
+    "run_scene": ".run", "run_scene_full": ".run", "rerun": ".runfile",
     "SCENES": ".scenes", "scene": ".scenes",
 }
 

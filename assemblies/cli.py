@@ -32,11 +32,8 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-    try:
-        return version("mechfmu")
-    except PackageNotFoundError:  # a source checkout that was never installed
-        return "unknown (not installed)"
+    from assemblies.version import mechfmu_version
+    return mechfmu_version()
 
 
 def _scene_name(name: str) -> str:
@@ -117,28 +114,45 @@ def _cmd_build(args) -> int:
     return 0
 
 
+def _run_arguments(args) -> dict:
+    """run_scene_full's arguments: the command line's, or with --from the file's with
+    each option given on the command line in its place."""
+    given = dict(stop_time=args.stop_time, step=args.step, tolerance=args.tolerance,
+                 scheme=args.scheme, mode=args.mode,
+                 adaptive=False if args.fixed_step else args.adaptive,
+                 extrapolation=args.extrapolation, engine=args.engine, jacobian=args.jacobian,
+                 start_time=args.start_time, inputs=args.inputs)
+    params = _parse_params(args.param)
+    if args.from_file is None:
+        if args.scene is None:
+            raise UsageError("the following arguments are required: scene (or --from "
+                             "FILE.json, a run's JSON file, to repeat that run)")
+        return dict(given, name=args.scene, params=params, engine=args.engine or "c")
+    from assemblies.runfile import read_run, run_arguments
+    record = read_run(args.from_file)
+    if args.scene is not None and args.scene != record["run"]["scene"]:
+        raise UsageError(f"--from {args.from_file} is a run of scene "
+                         f"'{record['run']['scene']}', not '{args.scene}'; leave the scene out")
+    return run_arguments(record, params, **given)
+
+
 def _cmd_run(args) -> int:
     out = _output_folder(args.out, "--out")
-    params = _parse_params(args.param)
+    kwargs = _run_arguments(args)
     _say_when_building()
     from assemblies.progress import ProgressReport
     from assemblies.run import run_scene_full
     from assemblies.scenes import scene
-    stop = args.stop_time if args.stop_time is not None else scene(args.scene).stop_time
-    progress = ProgressReport(stop, start_time=args.start_time or 0.0)
+    sc = scene(kwargs["name"]) if isinstance(kwargs["name"], str) else kwargs["name"]
+    stop = kwargs["stop_time"] if kwargs["stop_time"] is not None else sc.stop_time
+    progress = ProgressReport(stop, start_time=kwargs["start_time"] or 0.0)
     try:
-        run = run_scene_full(args.scene, stop_time=args.stop_time, step=args.step,
-                             tolerance=args.tolerance, params=params,
-                             out=out, scheme=args.scheme, progress=progress, mode=args.mode,
-                             adaptive=False if args.fixed_step else args.adaptive,
-                             extrapolation=args.extrapolation, engine=args.engine,
-                             jacobian=args.jacobian, start_time=args.start_time,
-                             inputs=args.inputs)
+        run = run_scene_full(**kwargs, out=out, progress=progress)
     finally:
         progress.close()
     print(run.table(verdict=False))
-    print(f"wrote {out / (args.scene + '.csv')}, {out / (args.scene + '.png')}, "
-          f"{out / (args.scene + '.json')}")
+    print(f"wrote {out / (run.name + '.csv')}, {out / (run.name + '.png')}, "
+          f"{out / (run.name + '.json')}")
     print(run.verdict())  # last, so that it is what a reader or a log tail sees
     if run.result.settings.get("interrupted"):
         return INTERRUPTED
@@ -253,7 +267,8 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("component", help="a component's name, as `mechfmu components` lists them")
     b.add_argument("-o", "--output", required=True, help="the .fmu file to write")
     b.add_argument("--fmi", type=int, choices=(2, 3), default=3,
-                   help="FMI version of the FMU (default: 3)")
+                   help="FMI version of the FMU (default: 3, as every command and function "
+                        "that writes an FMU)")
     b.add_argument("--profile", help="causality profile (default: the component's first; "
                                      "`mechfmu show COMPONENT` lists them)")
     b.add_argument("--param", action="append", metavar="NAME=VALUE",
@@ -263,8 +278,16 @@ def _parser() -> argparse.ArgumentParser:
     scene_list = "scenes: " + ", ".join(SCENE_NAMES)
     r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png and .json; exits 1 "
                                    "if a figure misses its accuracy", epilog=scene_list)
-    r.add_argument("scene", type=_scene_name, help="the scene to run (listed below; "
-                                                   "`mechfmu scenes` says what each is)")
+    r.add_argument("scene", type=_scene_name, nargs="?",
+                   help="the scene to run (listed below; `mechfmu scenes` says what each is); "
+                        "with --from, the file's")
+    r.add_argument("--from", dest="from_file", metavar="FILE.json",
+                   help="repeat the run a JSON file of `mechfmu run` records (DIR/SCENE.json: "
+                        "its scene, options, every instance's parameters, options and start "
+                        "values, and its inputs file, which must be unchanged); each option "
+                        "given here overrides the file's (--param is set after its values; a "
+                        "new --mode drops its co-simulation options and --jacobian, a new "
+                        "--engine its --jacobian). Same mechfmu version only")
     r.add_argument("--stop-time", type=float, metavar="SECONDS",
                    help="end of the run [s] (default: the scene's own)")
     r.add_argument("--start-time", type=float, metavar="SECONDS",
@@ -298,7 +321,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--mode", choices=("cosim", "me", "monolithic"),
                    help="master: co-simulation, one solver over Model Exchange FMUs, or the "
                         "joined model (default: the scene's own, cosim for most)")
-    r.add_argument("--engine", choices=("c", "fmpy"), default="c",
+    r.add_argument("--engine", choices=("c", "fmpy"),
                    help="c: the compiled engine, one C call per run (default); fmpy: the "
                         "Python reference masters driving the same FMUs through fmpy")
     r.add_argument("--jacobian", choices=("auto", "fd", "exact"),
@@ -319,8 +342,10 @@ def _parser() -> argparse.ArgumentParser:
                         "'me'; then Model Exchange too)")
     x.add_argument("--composite", metavar="FILE.fmu",
                    help="the joined (monolithic) model of our components as one FMU")
-    x.add_argument("--fmi", type=int, choices=(2, 3), default=2,
-                   help="FMI version of --fmu and --composite (default 2)")
+    x.add_argument("--fmi", type=int, choices=(2, 3), default=3,
+                   help="FMI version of --fmu and --composite (default: 3, as every command "
+                        "and function that writes an FMU; --ssp's members are FMI 2, what "
+                        "fmpy's SSP runner instantiates)")
     x.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
                    help="parameter, option or start value (repeatable)")
     x.set_defaults(fn=_cmd_export)

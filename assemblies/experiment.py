@@ -12,29 +12,57 @@ from .assembly import AssemblyError
 from .limits import check_output_rows
 
 
+#: the setting each check names, as run_scene and `mechfmu run` spell it: a refusal says
+#: which option to change whichever way the run was asked for
+OPTIONS = {"stop time": "stop_time=, --stop-time", "start time": "start_time=, --start-time",
+           "communication step": "step=, --step", "output step": "step=, --step",
+           "tolerance": "tolerance=, --tolerance"}
+#: the shortest step, relative to the run's largest time: the output times are
+#: start + k * step in doubles, and far below this they no longer differ by a step (at
+#: --start-time 1e17 a step of 0.1 s wrote hundreds of rows at one time); it is the
+#: FMUs' own shortest step (MF_MIN_STEP in fmus/runtime/solver.h), about 45 roundings
+MIN_RELATIVE_STEP = 1e-14
+
+
+def _named(check, value, what: str):
+    """`check(value, what)`, its refusal naming the option that sets `what`."""
+    try:
+        return check(value, what, AssemblyError)
+    except AssemblyError as exc:
+        raise AssemblyError(f"{exc} ({OPTIONS[what]})") from None
+
+
 def check_experiment(stop_time: float, step: float, tolerance: float,
                      step_name: str = "communication step", start_time: float = 0.0,
                      rows: bool = True) -> None:
-    """Reject what no master can run, naming the setting and what is allowed; with
-    `rows`, also an output table beyond memory (a run writes one row per step from the
-    start time; an exported FMU's default experiment writes none)."""
-    positive_finite(stop_time, "stop time", AssemblyError)
-    positive_finite(step, step_name, AssemblyError)
-    check_tolerance(tolerance, "tolerance", AssemblyError)
+    """Reject what no master can run, naming the setting, its option and what is allowed;
+    with `rows`, also an output table beyond memory (a run writes one row per step from
+    the start time; an exported FMU's default experiment writes none)."""
+    _named(positive_finite, stop_time, "stop time")
+    _named(positive_finite, step, step_name)
+    _named(check_tolerance, tolerance, "tolerance")
     check_start_time(start_time, stop_time)
     if rows:  # before any master allocates them
-        check_output_rows(stop_time - start_time, step, step_name)
+        check_output_rows(stop_time - start_time, step, step_name, start_time)
+    largest = max(abs(start_time), abs(stop_time))
+    shortest = MIN_RELATIVE_STEP * largest
+    if step < shortest:
+        raise AssemblyError(
+            f"{step_name} {step:g} s is below what times near {largest:g} s resolve: at "
+            f"least {shortest:.3g} s ({MIN_RELATIVE_STEP:g} of the run's largest time), or "
+            f"a start time nearer 0 ({OPTIONS[step_name]})")
 
 
 def check_start_time(start_time: float, stop_time: float) -> None:
     """One line where the start time is not a finite number before the stop time."""
+    where = f" ({OPTIONS['start time']})"
     if isinstance(start_time, bool) or not isinstance(start_time, numbers.Real):
-        raise AssemblyError(f"start time must be a number, not {start_time!r}")
+        raise AssemblyError(f"start time must be a number, not {start_time!r}{where}")
     if not math.isfinite(start_time):
-        raise AssemblyError(f"start time must be finite, not {start_time!r}")
+        raise AssemblyError(f"start time must be finite, not {start_time!r}{where}")
     if not start_time < stop_time:
         raise AssemblyError(f"start time {start_time:g} s must be before the stop time "
-                            f"{stop_time:g} s")
+                            f"{stop_time:g} s{where}")
 
 
 def output_times(stop_time: float, step: float, start_time: float = 0.0) -> np.ndarray:

@@ -30,7 +30,8 @@ from fmpy import read_model_description
 
 from components.errors import writable_file
 from fmus.build import FMI_HEADERS, RUNTIME_DIR, cached_library, platform_folder, token_from_digest
-from fmus.model_description import FMI_VERSIONS, GENERATION_TOOL, shared_head, xml_attributes
+from fmus.model_description import (DEFAULT_FMI, FMI_VERSIONS, GENERATION_TOOL, shared_head,
+                                    xml_attributes)
 
 from .assembly import Assembly, AssemblyError
 from .engine.build import C_DIR, SHARED_RUNTIME
@@ -50,11 +51,11 @@ ENGINE_FILES = ("cosim", "me", "jacobian", "fmu", "instances", "output")
 _TYPES = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Integer"}
 
 
-def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = 2,
+def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = DEFAULT_FMI,
                outputs: list[str] | None = None, stop_time: float = 10.0, step: float = 0.01,
                tolerance: float = 1e-8, mode: str | None = None, scheme: str = "jacobi",
                method: str | None = None, **settings) -> Path:
-    """Write `assembly` as one Co-Simulation FMU (FMI `fmi` = 2 or 3) to `path`.
+    """Write `assembly` as one Co-Simulation FMU (FMI `fmi` = 2 or 3, by default 3) to `path`.
 
     `outputs`: the members' variables the FMU exposes (``"block.x"``; default every
     output of every member). `stop_time` and `step` become its default experiment.

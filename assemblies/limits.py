@@ -49,14 +49,19 @@ def output_rows(stop_time: float, step: float) -> float:
     return math.ceil(min(stop_time / step, 1e300) - 1e-9) + 1.0
 
 
-def check_output_rows(stop_time: float, step: float, step_name: str = "output step") -> int:
-    """The number of output rows of the run, or LimitError if it is over MAX_OUTPUT_ROWS."""
-    rows = output_rows(stop_time, step)
+def check_output_rows(duration: float, step: float, step_name: str = "output step",
+                      start_time: float = 0.0) -> int:
+    """The number of output rows of a run of `duration` seconds (from `start_time`), or
+    LimitError if it is over MAX_OUTPUT_ROWS."""
+    rows = output_rows(duration, step)
     if rows > MAX_OUTPUT_ROWS:
+        span = (f"stop time {duration:g} s" if start_time == 0 else
+                f"a run of {duration:g} s (start time {start_time:g} s)")
         raise LimitError(
-            f"stop time {stop_time:g} s with {step_name} {step:g} s asks for {rows:.3g} output "
+            f"{span} with {step_name} {step:g} s asks for {rows:.3g} output "
             f"rows; at most {MAX_OUTPUT_ROWS:,} (assemblies.limits.MAX_OUTPUT_ROWS, what fits "
-            f"in memory): a longer {step_name} or a shorter stop time")
+            f"in memory): a longer {step_name} (--step) or a shorter run (--stop-time, "
+            "--start-time)")
     return int(rows)
 
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from components.errors import writable_folder
@@ -19,6 +19,7 @@ from .masters.monolithic import simulate_monolithic
 from .plot import column_units, plot_result
 from .pruning import prune_unrecorded
 from .result import Result
+from .runfile import run_record, set_instance_values
 from .scenes import Figure, Scene, scene
 
 
@@ -27,6 +28,8 @@ class SceneRun:
     name: str
     result: Result
     figures: list[Figure]
+    #: what repeats the run (assemblies.runfile.run_record): its options and every value
+    record: dict = field(default_factory=dict)
 
     @property
     def failed(self) -> list[Figure]:
@@ -44,7 +47,8 @@ class SceneRun:
                 f"accuracy: {', '.join(f.name for f in self.failed)}")
 
     def summary(self) -> dict:
-        return {"scene": self.name, "settings": self.result.settings, "passed": self.passed,
+        return {"scene": self.name, **self.record, "settings": self.result.settings,
+                "passed": self.passed,
                 "figures": [{"name": f.name, "description": f.description, "measured": f.measured,
                              "reference": f.reference, "error": f.error,
                              "accuracy": f.accuracy, "relative": f.relative, "bound": f.bound,
@@ -151,6 +155,9 @@ def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> di
         return {"adaptive": False, "tol": DEFAULT_COSIM["tol"],
                 "extrapolation": 0 if extrapolation is None else extrapolation}
     # a number is the tolerance (0 included: refused by the master, never read as "off")
+    if isinstance(adaptive, str) or not hasattr(adaptive, "__float__"):  # a run file's text
+        raise AssemblyError(f"adaptive (--adaptive/--fixed-step) must be True, False or a "
+                            f"tolerance in (0, 1), not {type(adaptive).__name__} {adaptive!r}")
     tol = DEFAULT_COSIM["tol"] if adaptive is True else float(adaptive)
     return {"adaptive": True, "tol": tol,
             "extrapolation": DEFAULT_COSIM["extrapolation"] if extrapolation is None
@@ -183,9 +190,11 @@ def check_choices(mode: str, engine: str) -> None:
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c", prune=True, jacobian=None, start_time=None,
-                   inputs=None) -> SceneRun:
+                   inputs=None, values=None) -> SceneRun:
     """As :func:`run_scene`, with the figures; `name` may also be a :class:`Scene` that is
-    not in the registry (a parameter study runs an assembly given to it as one)."""
+    not in the registry (a parameter study runs an assembly given to it as one).
+    `values`: every instance's values as a run's JSON file records them
+    (:mod:`assemblies.runfile`), set before `params`; :func:`assemblies.rerun` passes them."""
     sc = name if isinstance(name, Scene) else scene(name)
     name = sc.name
     mode = sc.mode if mode is None else mode
@@ -197,6 +206,8 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     if out is not None:  # a folder that cannot be written is found before the run
         out = writable_folder(out, "out", AssemblyError)
     asm = sc.build()
+    if values is not None:
+        set_instance_values(asm, values)
     for key, value in (params or {}).items():
         asm.set(key, value)
     check_mode(asm, mode)  # a foreign FMU the mode cannot run: one line, before any work
@@ -234,7 +245,13 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
         result = run_monolithic(run_asm, **common)
     result.settings.setdefault("engine", engine)
     result.settings["pruned"] = pruned
-    run = SceneRun(name, result, sc.figures(result, asm))
+    # the values used and the options as asked (None: the default, which may differ by
+    # path: a single FMU runs free only where no co-simulation setting was given)
+    record = run_record(name, dict(common, mode=mode, engine=engine, scheme=scheme,
+                                   adaptive=adaptive, extrapolation=extrapolation,
+                                   jacobian=jacobian, prune=prune), params, inputs, asm,
+                        fed.resolve_causality())
+    run = SceneRun(name, result, sc.figures(result, asm), record)
     result.figures = run.figures
     result.assembly = asm  # the values the run used: a picture draws with them (--param)
     if out is not None:

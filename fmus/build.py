@@ -36,7 +36,7 @@ from components.dae import flatten
 from . import integrity
 from .codegen import generate_c, time_invariant
 from .documentation import documentation_html
-from .model_description import FMI_VERSIONS, model_description
+from .model_description import DEFAULT_FMI, FMI_VERSIONS, model_description
 from .recipe import RecipeStore, recipe
 from .sources import build_description
 
@@ -191,7 +191,8 @@ def recipes() -> RecipeStore:
     return RecipeStore(cache_dir() / "recipes")
 
 
-def fmu_recipe(component: Component, fmi_version: int = 3, tolerance: float = 1e-8) -> str | None:
+def fmu_recipe(component: Component, fmi_version: int = DEFAULT_FMI,
+               tolerance: float = 1e-8) -> str | None:
     """The recipe key of `component`'s FMU (:mod:`fmus.recipe`); None for a class made at
     run time."""
     return recipe(component, fmi_version, tolerance, list(TOOLCHAIN), _runtime_sources(), CFLAGS)
@@ -209,8 +210,9 @@ def component_facts(component: Component) -> dict:
 
 
 def build_fmu(component: Component, output: str | os.PathLike | None = None,
-              fmi_version: int = 3, tolerance: float = 1e-8) -> Path:
-    """Build (or fetch from the cache) the FMI 2.0 or 3.0 FMU of `component` under its profile.
+              fmi_version: int = DEFAULT_FMI, tolerance: float = 1e-8) -> Path:
+    """Build (or fetch from the cache) the FMI 2.0 or 3.0 (default) FMU of `component` under
+    its profile.
 
     The component's current parameter values and state starts become the FMU's
     start values. Returns the path of the .fmu (`output` if given).
@@ -231,7 +233,7 @@ def build_fmu(component: Component, output: str | os.PathLike | None = None,
     return output
 
 
-def fetch_fmu(component: Component, fmi_version: int = 3, tolerance: float = 1e-8,
+def fetch_fmu(component: Component, fmi_version: int = DEFAULT_FMI, tolerance: float = 1e-8,
               key: str | None = None) -> BuiltFmu:
     """The cached FMU of `component` (built now if it never was) with its model's facts.
 

@@ -29,6 +29,10 @@ from .units import DEFAULT_DISPLAY_UNIT, DISPLAY_UNITS, UNITS, unit_exponents
 
 GENERATION_TOOL = "mechfmu 0.1"
 FMI_VERSIONS = (2, 3)
+#: the FMI version of every FMU we write unless asked for another: build_fmu, export_fmu,
+#: the composite and `mechfmu build`/`export` alike (SSP archives excepted: their members
+#: are FMI 2, what fmpy's SSP runner instantiates)
+DEFAULT_FMI = 3
 
 LOG_CATEGORIES = (
     ("logEvents", "events: time, indicators, mode changes"),

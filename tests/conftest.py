@@ -39,6 +39,27 @@ def simulate_in_fmpy(component, fmi_type, stop_time, output_interval, tolerance=
                         start_values=starts, output=output, record_events=True)
 
 
+def cli(capsys, *argv):
+    """(exit code, stderr lines) of `mechfmu argv`, run in this process."""
+    from assemblies.cli import main
+
+    try:
+        code = main(list(argv))
+    except SystemExit as exc:  # argparse's own errors exit
+        code = exc.code
+    return code, capsys.readouterr().err.strip().splitlines()
+
+
+def one_line_error(capsys, argv, words):
+    code, lines = cli(capsys, *argv)
+    assert code == 2
+    assert len(lines) == 1, lines
+    assert "Traceback" not in lines[0]
+    for word in words:
+        assert word in lines[0], (word, lines[0])
+    return lines[0]
+
+
 def quick_refusal(call, *words):
     """`call` raises one of our ValueErrors (a MechfmuError), one line holding `words`, in
     under a second: how every bad input must end (issue 25). Returns the message."""

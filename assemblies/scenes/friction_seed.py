@@ -108,7 +108,7 @@ def _fit_slope(t, y) -> tuple[float, float]:
 
 
 def _nth(items, n, width=2):
-    return items[n] if n < len(items) else (math.nan,) * width
+    return items[n] if 0 <= n < len(items) else (math.nan,) * width
 
 
 # --- 9.5 resonance ---------------------------------------------------------------------
@@ -201,7 +201,9 @@ def _resonance_growth_figures(result: Result, asm: Assembly) -> list[Figure]:
     # the law by what is left of it; the run may add the solver's error at each point
     share = spread * p["acc"](max((abs(ph.x) for ph in window), default=1.0))
     turns = slide_ends(phases)
-    last_run, last = _nth(turning_points(result, "block"), len(turns) - 1), turns[-1]
+    last_run = _nth(turning_points(result, "block"), len(turns) - 1)
+    # a run stopped before the first slide ends has no last turning point: NaN, a FAIL
+    last_x, last_t = (turns[-1].x, turns[-1].t) if turns else (math.nan, math.nan)
     return figures + [
         Figure("rate", f"growth of |x| at turning points [m/s], fitted from the lock "
                f"(t >= {t_lock:.1f} s), vs (U pi - 4 mu m g/k) w0/(2 pi); accuracy: the exact "
@@ -210,8 +212,8 @@ def _resonance_growth_figures(result: Result, asm: Assembly) -> list[Figure]:
         Figure("rate_exact", "the same fit vs the exact event-driven solution's over the same "
                "turning points [m/s]", slope, exact_slope, share),
         Figure("A_last", "last turning point [m] vs the exact event-driven solution",
-               last_run[1], last.x, p["acc"](max(abs(last.x), abs(p["x0"])))),
-        Figure("t_last", "its time [s]", last_run[0], last.t, p["acc"](last.t)),
+               last_run[1], last_x, p["acc"](max(abs(last_x), abs(p["x0"])))),
+        Figure("t_last", "its time [s]", last_run[0], last_t, p["acc"](last_t)),
         _event_count_figure(result, "block", phases)]
 
 
@@ -233,9 +235,10 @@ def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
     law = half_period_turning_points(q["m"], q["k"], q["g"], q["mu_k"], q["U"], q["x0"],
                                      float(t[-1]))[1:]
     run = turning_points(result, "locked")
+    # a run stopped before the law's first turning point has nothing to hold: NaN, a FAIL
     slope, spread = (_fit_slope(*zip(*[(tt, abs(x)) for tt, x in run[:len(law)]]))
-                     if len(run) >= len(law) else (math.nan, math.nan))
-    t_end, x_end = law[-1]
+                     if law and len(run) >= len(law) else (math.nan, math.nan))
+    t_end, x_end = law[-1] if law else (math.nan, math.nan)
     t_run, x_run = _nth(run, len(law) - 1)
     return figures + [
         Figure("rate_locked", f"locked: change of |x| over its {len(law)} turning points "

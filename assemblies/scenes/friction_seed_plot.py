@@ -76,7 +76,8 @@ def plot_resonance(result: Result, title: str, path: str | Path) -> None:
     right.set_xlabel("t [s]")
     right.set_ylabel("|x| at turning points [m]")
     right.grid(alpha=0.3)
-    right.legend(loc="best", fontsize=8)
+    if right.get_legend_handles_labels()[0]:  # a run stopped before a turning point has none
+        right.legend(loc="best", fontsize=8)
     _save(fig, title, path)
 
 

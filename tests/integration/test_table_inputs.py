@@ -328,8 +328,9 @@ def _mechfmu(*args, cwd=None):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--start-time", "inf"], "start time must be finite, not inf"),
-    (["--start-time", "20", "--stop-time", "10"], "start time 20 s must be before the stop time 10 s"),
+    (["--start-time", "inf"], "start time must be finite, not inf (start_time=, --start-time)"),
+    (["--start-time", "20", "--stop-time", "10"],
+     "start time 20 s must be before the stop time 10 s (start_time=, --start-time)"),
     (["--inputs", "missing.csv"], "inputs: cannot read missing.csv: No such file or directory"),
     (["--inputs", "in.csv"], "inputs: column 'block.f' is not an open input of assembly "
                              "'stick_slip'; open inputs: (none)"),

@@ -10,29 +10,10 @@ import sys
 import pytest
 
 from assemblies import Assembly, composite, cosimulate, run_scene, scene, simulate_me
-from assemblies.cli import main
+from conftest import cli, one_line_error  # noqa: F401 (test_limits imports them from here)
 from components import SpringBlock
 from components.errors import MechfmuError
 from fmus import build_fmu
-
-
-def cli(capsys, *argv):
-    """(exit code, stderr lines) of `mechfmu argv`, run in this process."""
-    try:
-        code = main(list(argv))
-    except SystemExit as exc:  # argparse's own errors exit
-        code = exc.code
-    return code, capsys.readouterr().err.strip().splitlines()
-
-
-def one_line_error(capsys, argv, words):
-    code, lines = cli(capsys, *argv)
-    assert code == 2
-    assert len(lines) == 1, lines
-    assert "Traceback" not in lines[0]
-    for word in words:
-        assert word in lines[0], (word, lines[0])
-    return lines[0]
 
 
 # (command line, the words its one line must hold: what is wrong and what is allowed)

@@ -37,6 +37,37 @@ def test_an_output_table_beyond_memory_is_refused_before_the_run(capsys, tmp_pat
     assert list(tmp_path.iterdir()) == []
 
 
+# every absurd number of `mechfmu run` (issue 26): one line naming the option and what it
+# may be, before anything is built or written, in every mode
+ABSURD = [
+    (["--step", "1e-300"], ["output rows", "--step", f"at most {MAX_OUTPUT_ROWS:,}"]),
+    (["--step", "1e-300", "--start-time", "39.9"],
+     ["a run of 0.1 s (start time 39.9 s)", "--step", "--start-time"]),
+    (["--step", "0"], ["step must be a positive finite number", "--step"]),
+    (["--step", "inf"], ["step must be a positive finite number", "--step"]),
+    (["--stop-time", "-1"], ["stop time must be a positive finite number", "--stop-time"]),
+    (["--stop-time", "1e300"], ["output rows", "--stop-time"]),
+    (["--tolerance", "0"], ["tolerance must be in [1e-14, 1)", "--tolerance"]),
+    (["--tolerance", "nan"], ["tolerance must be in [1e-14, 1)", "--tolerance"]),
+    (["--start-time", "nan"], ["start time must be finite", "--start-time"]),
+    (["--start-time", "50"], ["start time 50 s must be before the stop time 40 s",
+                              "--start-time"]),
+    # the output times would not differ by a step (before: hundreds of rows at one time)
+    (["--start-time", "1e17", "--stop-time", "100000000000000040"],
+     ["step 0.1 s is below what times near 1e+17 s resolve", "--step"]),
+]
+
+
+@pytest.mark.parametrize("mode", ["cosim", "me", "monolithic"])
+@pytest.mark.parametrize("argv, words", ABSURD, ids=[" ".join(a) for a, _ in ABSURD])
+def test_an_absurd_number_of_a_run_names_its_option(capsys, tmp_path, argv, words, mode):
+    started = time.perf_counter()
+    one_line_error(capsys, ["run", "stick_slip", "--mode", mode, *argv, "--out", str(tmp_path)],
+                   words)
+    assert time.perf_counter() - started < 1.0
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_the_engine_front_ends_check_the_rows_too():
     quick_refusal(lambda: cosimulate(STICK_SLIP(), 1e9, 0.01), *ROWS)
     quick_refusal(lambda: simulate_me(STICK_SLIP(), 10.0, 1e-300), *ROWS)
