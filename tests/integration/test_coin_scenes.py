@@ -122,3 +122,14 @@ def test_scene_figures_meet_their_references(name, tmp_path):
         assert f.passed, f
     if name.startswith("coin"):
         plot_coin(res, name, tmp_path / f"{name}.png")
+
+
+@pytest.mark.parametrize("name", ["coin_rolling", "coin_upright", "coin_circle"])
+def test_joined_run_of_a_coin_that_can_fall_passes(name):
+    """The coin can end a run (it falls flat): its joined FMU carries that, and the scene
+    runs in monolithic mode with every figure passing."""
+    from assemblies.run import run_scene_full
+    run = run_scene_full(name, mode="monolithic")
+    assert run.passed, run.table()
+    assert run.result.settings["scheme"] == "monolithic"
+    assert run.result.settings["terminated"] is None  # the scenes' coins keep rolling
