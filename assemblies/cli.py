@@ -323,7 +323,8 @@ def _parser() -> argparse.ArgumentParser:
                         "joined model (default: the scene's own, cosim for most)")
     r.add_argument("--engine", choices=("c", "fmpy"),
                    help="c: the compiled engine, one C call per run (default); fmpy: the "
-                        "Python reference masters driving the same FMUs through fmpy")
+                        "Python reference masters driving the same FMUs through fmpy (in "
+                        "mode monolithic: the joined CasADi model under scipy, no FMU)")
     r.add_argument("--jacobian", choices=("auto", "fd", "exact"),
                    help="the implicit solver's Jacobian (modes me and monolithic): auto, "
                         "directional derivatives unless a foreign FMU's disagree with "

@@ -72,8 +72,9 @@ class SceneRun:
         fixed_step = s.get("scheme") in ("jacobi", "gauss-seidel") and not s.get("adaptive")
         step = "step" if fixed_step else "output every"
         lines.append(f"stop time {s['stop_time']:g} s, {step} {s['step']:g} s, tolerance "
-                     f"{s['tolerance']:g}, {s['scheme']}, engine {s.get('engine', '?')}, "
-                     f"wall time {s['wall_s']:.3g} s"
+                     f"{s['tolerance']:g}, {s['scheme']}, engine {s.get('engine', '?')}"
+                     + (f" ({s['master']})" if s.get("master") else "")
+                     + f", wall time {s['wall_s']:.3g} s"
                      + (f" (FMU builds and loading: {s['setup_s']:.3g} s more)"
                         if s.get("setup_s", 0) >= 0.05 else ""))
         if s.get("interrupted"):

@@ -119,7 +119,11 @@ static int event_iteration(run_ctx *c, double t, double *x)
 static int terminated(const run_ctx *c)
 {
     const mf_model *m = c->m;
-    return m->terminate_q >= 0 && m->terminate_q < m->n_q && c->q[m->terminate_q] != 0.0;
+    int k;
+    for (k = 0; k < m->n_terminate; k++)
+        if (m->terminate_q[k] >= 0 && m->terminate_q[k] < m->n_q && c->q[m->terminate_q[k]] != 0.0)
+            return 1;
+    return 0;
 }
 
 /* the recorded columns at time t, from the state x there */

@@ -60,7 +60,9 @@ class FlatModel:
     indicators: list[Variable]
     constraints: list = field(default_factory=list)
     state_outputs: list[bool] = field(default_factory=list)
-    terminate: tuple[int, str] | None = None  # (mode index, why) when the model can end a run
+    # (mode index, why) of each mode that, once nonzero, ends the run: one for a component
+    # with terminate_when, one per such member in a joined model, none for most
+    terminate: tuple[tuple[int, str], ...] = ()
 
     @property
     def args(self):
@@ -119,7 +121,7 @@ class EquationBuilder:
         self.indicators: list[tuple[Variable, ca.SX]] = []
         self.jumps: dict[str, ca.SX] = {}
         self.extra_modes: list[tuple[Mode, ca.SX]] = []  # modes the builder adds itself
-        self.terminate: str | None = None
+        self.terminate: list[tuple[str, str]] = []  # (mode name, why): see terminate_on
         self.inputs: list[tuple[Variable, ca.SX]] = []
         self._ports = {}
         for port in component.ports:
@@ -206,14 +208,26 @@ class EquationBuilder:
         For states where the model stops being valid (a coin fallen flat): the
         runtime locates the crossing like any event and reports terminateSimulation.
         """
-        if self.terminate is not None:
+        if any(mode == "terminated" for mode, _ in self.terminate):  # its flag's name is taken
             raise ComponentError(f"{self.component._where()}: only one terminate condition")
         flag = ca.SX.sym("terminated")
         self.extra_modes.append((Mode("terminated", 0, f"1 once the run has ended: {message}",
                                       values=(0, 1)), flag))
         self.indicator(margin, f"margin before: {message}")
         self.jumps["terminated"] = ca.if_else(margin <= 0, 1, flag)
-        self.terminate = message
+        self.terminate.append(("terminated", message))
+
+    def terminate_on(self, mode: str, message: str) -> None:
+        """End the simulation, saying `message`, once the declared mode `mode` is nonzero.
+
+        For a model whose jumps already set such a flag: a joined model carries each
+        member's terminate flag this way, under the member's reason.
+        """
+        if mode not in vars(self.q):
+            known = ", ".join(k for k in vars(self.q) if not k.startswith("_")) or "none"
+            raise ComponentError(f"{self.component._where()}: terminate on unknown mode "
+                                 f"'{mode}' (its modes: {known})")
+        self.terminate.append((mode, message))
 
     def jump(self, name: str, expr) -> None:
         """New value of a state or mode at an event (iterated until nothing changes)."""
@@ -316,7 +330,7 @@ def flatten(component: Component) -> FlatModel:
                 for s in component.states],
         state_outputs=[s.output for s in component.states],
         modes=[Variable(m.name, "", m.description, float(m.start)) for m in modes],
-        terminate=(len(modes) - 1, e.terminate) if e.terminate else None,
+        terminate=tuple(([m.name for m in modes].index(mode), why) for mode, why in e.terminate),
         inputs=[v for v, _ in e.inputs],
         parameters=[Variable(pp.name, pp.unit, pp.description, component.values[pp.name])
                     for pp in component.parameters],

@@ -183,7 +183,7 @@ def model_facts(model) -> dict:
     return {"chained_inputs": {v.name: model.inputs[v.derivative_input].name
                                for v in model.inputs if v.derivative_input is not None},
             "indicators_follow_time": bool(model.z.numel()) and bool(ca.depends_on(model.z, model.t)),
-            "can_terminate": model.terminate is not None,
+            "can_terminate": bool(model.terminate),
             "autonomous": time_invariant(model)}
 
 

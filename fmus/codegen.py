@@ -148,6 +148,11 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
     if not model.constraints:
         lines.append('    {"", 0},')
     lines.append("};")
+    # C has no empty arrays: a model that never ends a run gets a -1 nobody reads
+    lines.append("static const int terminate_q[] = {"
+                 f"{', '.join(str(q) for q, _ in model.terminate) or '-1'}}};")
+    lines.append("static const char *const terminate_message[] = {"
+                 f"{', '.join(_c_string(why) for _, why in model.terminate) or '0'}}};")
     fn = ", ".join(f"{{mf_{k}, mf_{k}_work}}" for k in FUNCTION_ORDER)
     lines.append(f"""
 const mf_model MF_MODEL = {{
@@ -156,7 +161,7 @@ const mf_model MF_MODEL = {{
     {model.z.numel()}, {len(model.constraints)},
     {len(table)}, variables, input_derivative, constraints,
     {fn},
-    {model.terminate[0] if model.terminate else -1}, {_c_string(model.terminate[1]) if model.terminate else "0"},
+    {len(model.terminate)}, terminate_q, terminate_message,
     {{mf_dd, mf_dd_work}},
     {int(time_invariant(model))},
     mf_dd_sparsity_out

@@ -33,8 +33,8 @@ from ..result import Result, Table
 from . import binding as B
 from .build import library
 from .liveness import continuous_couplings, row_couplings
-from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
-                      record_columns, rest_groups, structure_key)
+from .prepare import (assembly_recipe, class_defaults, member_termination, prepared,
+                      prepared_composite, record_columns, rest_groups, structure_key)
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
@@ -414,6 +414,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
         plan = _Plan([("assembly", fmu, keys)], [], columns, groups)
         plan.set_rest_groups(rest_groups(["assembly"], [], {"assembly": fmu}))
         plan.members = members
+        plan.layout = joined
         plan.capped = joined.indicators_follow_time
         return plan
 
@@ -434,6 +435,8 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
     tables = {member: Table.from_rows(["time"] + outputs, rows)
               for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)
               if len(rows)}
+    settings["terminated"] = member_termination(settings["terminated"], plan.layout.terminate,
+                                                "assembly")
     settings["wall_s"] = wallclock.perf_counter() - started
     settings["setup_s"] = setup_s
     return Result(table, tables, settings)

@@ -349,6 +349,27 @@ class JoinedLayout:
     outputs: dict                # instance -> names of its outputs, in FMU order
     owner_of_indicator: list     # instance owning each event indicator of the composite
     indicators_follow_time: bool
+    terminate: list = field(default_factory=list)  # [instance, why]: members that can end a run
+
+
+def member_termination(terminated: dict | None, members, composite: str) -> dict | None:
+    """A composite run's ``settings["terminated"]`` in its member's terms. `members`:
+    (instance, why) of each member that can end a run; `composite`: the composite's
+    instance name. The composite's reason is the member's prefixed by the member's name,
+    which says whose it is; the result then reads as the member's own run would (its
+    instance, and the message the member's own FMU logs)."""
+    if not terminated:
+        return terminated
+    message = terminated.get("message") or ""
+    for instance, why in members:
+        if f"{instance}: {why}" in message:
+            message = message.replace(f"{instance}: {why}", why, 1)
+            if message.startswith(f"{composite}: "):  # the importer's instance prefix
+                message = f"{instance}: {message.removeprefix(f'{composite}: ')}"
+            return dict(terminated, instance=instance, message=message)
+    if len(members) == 1:  # an importer that kept no message: only one member can
+        return dict(terminated, instance=members[0][0])
+    return terminated
 
 
 def assembly_recipe(assembly, *parts) -> str | None:
@@ -415,7 +436,8 @@ def prepared_composite(assembly, fmi_version: int = 3) -> tuple[JoinedLayout, Pr
         built = fetch_fmu(comp, fmi_version=fmi_version, key=recipe)
         saved = {"outputs": comp.joined.outputs,
                  "owner_of_indicator": list(comp.joined.owner_of_indicator),
-                 "indicators_follow_time": built.facts["indicators_follow_time"]}
+                 "indicators_follow_time": built.facts["indicators_follow_time"],
+                 "terminate": [[name, why] for _, name, why in comp.joined.terminate]}
         recipes().update(recipe, layout=saved)
     fmu = prepared_path(str(built.path))
     fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move

@@ -136,8 +136,7 @@ def join(assembly: Assembly) -> JoinedModel:
         outputs[name] = ([v.name for v, out in zip(m.states, m.state_outputs) if out]
                          + [v.name for v in m.outputs] + [v.name for v in m.modes])
         owners += [name] * m.z.numel()
-        if m.terminate is not None:
-            terminate.append((q_offset + m.terminate[0], name, m.terminate[1]))
+        terminate += [(q_offset + index, name, why) for index, why in m.terminate]
         q_offset += m.q.numel()
     return JoinedModel(
         t=t, x=cat("x"), q=cat("q"), u=ca.vertcat(*u_syms), p=cat("p"),
@@ -267,6 +266,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, toler
     if method not in METHODS and method not in _CasadiStepper.methods:
         raise AssemblyError(f"method must be one of {', '.join((*METHODS, *_CasadiStepper.methods))}, "
                             f"not '{method}'")
+    solver = "CasADi's CVODES" if method in _CasadiStepper.methods else f"scipy's {method}"
     started = wallclock.perf_counter()
     model = join(assembly)
     columns = _columns(model, record)
@@ -290,7 +290,9 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float, toler
     events = {name: Table.from_rows(["time"] + [f"{name}.{v}" for v in model.outputs[name]], rows_)
               for name, rows_ in system.event_rows.items() if rows_}
     settings = {"start_time": start_time, "stop_time": stop_time, "step": step,
-                "tolerance": tolerance, "scheme": "monolithic", "method": method, "engine": "reference",
+                "tolerance": tolerance, "scheme": "monolithic", "method": method,
+                # the Python masters' engine, and what this one of them ran: no FMU at all
+                "engine": "fmpy", "master": f"the joined CasADi model under {solver}, no FMU",
                 "wall_s": wallclock.perf_counter() - started,
                 "steps": stats.steps, "events": stats.events, "rhs_calls": stats.rhs_calls,
                 "terminated": None if terminated is None else
@@ -364,11 +366,13 @@ class Composite(Component):
             for v in member.states:
                 e.jump(f"{name}.{v.name}", jx[k])
                 k += 1
-        k = 0
-        for name, member in m.members.items():
-            for v in member.modes:
-                e.jump(f"{name}.{v.name}", jq[k])
-                k += 1
+        modes = [f"{name}.{v.name}" for name, member in m.members.items() for v in member.modes]
+        for k, name in enumerate(modes):
+            e.jump(name, jq[k])
+        # the member's flag ends the joined run where it would end the member's own, and
+        # the reason names the member: one FMU has one instance name for all of them
+        for index, name, why in m.terminate:
+            e.terminate_on(modes[index], f"{name}: {why}")
 
 
 def composite(assembly: Assembly) -> Composite:
@@ -378,10 +382,6 @@ def composite(assembly: Assembly) -> Composite:
     current values as defaults; unconnected flanges become the composite's ports.
     """
     model = join(assembly)
-    if model.terminate:
-        raise AssemblyError(f"assembly '{assembly.name}': members that can end a run "
-                            f"({', '.join(n for _, n, _ in model.terminate)}) are not supported "
-                            "in one FMU yet")
     parameters, states, modes, ports, constraints, open_ports = [], [], [], [], [], []
     for name, comp in assembly.components.items():
         for p in comp.parameters:
@@ -390,8 +390,12 @@ def composite(assembly: Assembly) -> Composite:
         for s in comp.states:
             states.append(State(f"{name}.{s.name}", comp.starts[s.name], s.unit,
                                 f"{name}: {s.description}", s.output))
+        # the values a mode can take: as the member declares them; the flags the builder
+        # adds (terminate_when) are 0 or 1
+        values = {mode.name: mode.values for mode in comp.modes}
         for v in model.members[name].modes:
-            modes.append(Mode(f"{name}.{v.name}", int(v.start), f"{name}: {v.description}"))
+            modes.append(Mode(f"{name}.{v.name}", int(v.start), f"{name}: {v.description}",
+                              values.get(v.name, (0, 1))))
         for c in comp.constraints:
             names = [p.name for p in comp.parameters]
             constraints.append(Constraint(
@@ -421,7 +425,7 @@ def _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progre
                             start_time=0.0):
     from .cosim import cosimulate
     single = Assembly(assembly.name)
-    single.add("assembly", composite(assembly))
+    joined = single.add("assembly", composite(assembly)).joined
     inner = None if record is None else [f"assembly.{r}" for r in record]
     res = cosimulate(single, stop_time, step, tolerance, record=inner, progress=progress,
                      start_time=start_time)
@@ -435,5 +439,10 @@ def _simulate_composite_fmu(assembly, stop_time, step, tolerance, record, progre
             cols.update({n.removeprefix("assembly."): ev[n] for n in ev.columns
                          if n.startswith(f"assembly.{name}.")})
             events[name] = Table(cols)
-    settings = dict(res.settings, scheme="monolithic", engine="fmu")
+    from ..engine.prepare import member_termination
+    settings = dict(res.settings, scheme="monolithic", engine="fmpy",
+                    master="the joined model as one FMU, co-simulated through fmpy",
+                    terminated=member_termination(res.settings.get("terminated"),
+                                                  [(n, why) for _, n, why in joined.terminate],
+                                                  "assembly"))
     return Result(columns, events, settings)

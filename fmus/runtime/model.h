@@ -65,10 +65,12 @@ typedef struct {
     mf_function jump;  /* -> x_new (n_x), q_new (n_q): one event-iteration step */
     mf_function check; /* -> g (n_c); constraint i holds when g[i] >= 0 (> 0 if strict) */
     mf_function jac;   /* -> d xdot / d x (n_x * n_x, column-major) */
-    /* the discrete state that, once nonzero, ends the simulation (e.g. a coin that
-       fell flat), or -1; the message says why, the runtime adds the time */
-    int terminate_q;
-    const char *terminate_message;
+    /* the discrete states that, once nonzero, end the simulation (a coin that fell
+       flat; a joined model has one per member that can end a run), n_terminate of them,
+       and why each does (the runtime adds the time) */
+    int n_terminate;
+    const int *terminate_q;
+    const char *const *terminate_message;
     /* d [xdot; y] / d [x; u]: the dense (n_x + n_y) x (n_x + n_u) Jacobian, column-major,
        for fmi2/3GetDirectionalDerivative and fmi3GetAdjointDerivative */
     mf_function dd;

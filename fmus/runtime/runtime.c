@@ -1047,17 +1047,35 @@ mf_status mf_set_int(mf_instance *I, const char *fn, const uint32_t vr[], size_t
 /* ------------------------------------------------------------------------ */
 /* events and Model Exchange                                                 */
 
-/* Whether the model's terminate flag is set; says so (always, with the time) the
-   first time, since the importer must learn why the simulation ends. */
-static int model_terminates(mf_instance *I, const char *fn)
+/* The first of the model's terminate flags that is set, or -1 (no logging: status
+   queries use it too). */
+static int terminate_flag(const mf_instance *I)
 {
     const mf_model *m = I->m;
-    if (m->terminate_q < 0 || m->terminate_q >= m->n_q || I->q[m->terminate_q] == 0.0) return 0;
+    int k;
+    for (k = 0; k < m->n_terminate; k++) {
+        int q = m->terminate_q[k];
+        if (q >= 0 && q < m->n_q && I->q[q] != 0.0) return k;
+    }
+    return -1;
+}
+
+/* Why flag k ends the simulation. */
+static const char *terminate_reason(const mf_instance *I, int k)
+{
+    const char *why = k >= 0 ? I->m->terminate_message[k] : 0;
+    return why ? why : "the model ended the simulation";
+}
+
+/* Whether a terminate flag of the model is set; says so (always, with the time and the
+   flag's reason) the first time, since the importer must learn why the simulation ends. */
+static int model_terminates(mf_instance *I, const char *fn)
+{
+    int k = terminate_flag(I);
+    if (k < 0) return 0;
     if (!I->terminate_reported) {
         I->terminate_reported = 1;
-        log_always(I, "%s: %s at t = %.17g", fn,
-                   m->terminate_message ? m->terminate_message : "the model ended the simulation",
-                   I->t);
+        log_always(I, "%s: %s at t = %.17g", fn, terminate_reason(I, k), I->t);
     }
     return 1;
 }
@@ -1411,7 +1429,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
            repeat of the first answer leaves a master looping without a reason */
         log_error(I, "%s: the model ended the simulation at t = %.17g (%s); no step can "
                      "follow: terminate, reset or free the instance", fn, I->t,
-                  m->terminate_message ? m->terminate_message : "its terminate condition");
+                  terminate_reason(I, terminate_flag(I)));
         if (terminate) *terminate = 1;
         return MF_ERROR;
     }
@@ -1564,12 +1582,10 @@ mf_status mf_get_time(mf_instance *I, const char *fn, double *time)
 
 mf_status mf_get_terminated(mf_instance *I, const char *fn, int *terminated)
 {
-    const mf_model *m;
     if (!I) return MF_ERROR;
     if (!array_ok(I, fn, terminated, 1, "value")) return MF_ERROR;
-    m = I->m;
-    /* the flag itself, not model_terminates(): a status query must not log */
-    *terminated = m->terminate_q >= 0 && m->terminate_q < m->n_q && I->q[m->terminate_q] != 0.0;
+    /* the flags themselves, not model_terminates(): a status query must not log */
+    *terminated = terminate_flag(I) >= 0;
     return MF_OK;
 }
 

@@ -6,7 +6,6 @@ import math
 import numpy as np
 import pytest
 
-from assemblies.assembly import AssemblyError
 from assemblies.run import run_scene_full
 from assemblies.scenes.bodies_seed import (SEED_BODY_SCENES, cone_angle,
                                            disk_angular_momentum, shell_amplitude_shift,
@@ -14,8 +13,6 @@ from assemblies.scenes.bodies_seed import (SEED_BODY_SCENES, cone_angle,
 
 G = 9.81
 SCENES = list(SEED_BODY_SCENES)
-# components that can end a run (terminate_when) are not joined into one FMU yet
-MONOLITHIC = ["cylinder_incline", "nutation_damper"]
 
 
 def _figures(run):
@@ -53,16 +50,11 @@ def test_model_exchange_run_passes_too(name):
     assert run.passed, run.table()
 
 
-@pytest.mark.parametrize("name", MONOLITHIC)
+@pytest.mark.parametrize("name", SCENES)
 def test_joined_run_passes_too(name):
+    # five of these bodies can end a run (terminate_when): the joined FMU carries it
     run = run_scene_full(name, mode="monolithic")
     assert run.passed, run.table()
-
-
-@pytest.mark.parametrize("name", sorted(set(SCENES) - set(MONOLITHIC)))
-def test_joined_run_of_a_terminating_body_is_refused_in_one_line(name):
-    with pytest.raises(AssemblyError, match="can end a run"):
-        run_scene_full(name, mode="monolithic")
 
 
 # --- 8.1 ---------------------------------------------------------------------------

@@ -137,3 +137,14 @@ def test_flip_growth_crossing_is_interpolated_within_its_stated_accuracy(step):
     assert growth.reference == pytest.approx(1 / math.sqrt(3), rel=1e-14)
     assert growth.passed, (growth.measured, growth.error, growth.bound)
     assert growth.error < 0.01 * growth.reference
+
+
+@pytest.mark.parametrize("name", ["coin_rolling", "coin_upright", "coin_circle"])
+def test_joined_run_of_a_coin_that_can_fall_passes(name):
+    """The coin can end a run (it falls flat): its joined FMU carries that, and the scene
+    runs in monolithic mode with every figure passing."""
+    from assemblies.run import run_scene_full
+    run = run_scene_full(name, mode="monolithic")
+    assert run.passed, run.table()
+    assert run.result.settings["scheme"] == "monolithic"
+    assert run.result.settings["terminated"] is None  # the scenes' coins keep rolling
