@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from assemblies.scene_names import SCENE_NAMES
+from assemblies.scene_names import SCENE_INDEX, SCENE_NAMES
 
 
 class UsageError(ValueError):
@@ -37,6 +37,15 @@ def _version() -> str:
         return version("mechfmu")
     except PackageNotFoundError:  # a source checkout that was never installed
         return "unknown (not installed)"
+
+
+class _Version(argparse.Action):
+    """--version, its number looked up only when asked for: importlib.metadata takes
+    0.03-0.1 s, which every other command would pay."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"mechfmu {_version()}")  # on stdout, as argparse's own version action
+        parser.exit()
 
 
 def _scene_name(name: str) -> str:
@@ -90,13 +99,13 @@ def _cmd_show(args) -> int:
 
 
 def _cmd_scenes(args) -> int:
-    from assemblies.scenes import SCENES
     if args.markdown:
         from assemblies.scenes.listing import markdown_table
         print(markdown_table())
         return 0
-    for name, sc in SCENES.items():
-        print(f"{name:<18} {sc.description}")
+    # from the index, not the registry: listing 30 scenes must not import them all
+    for name, (_, description) in SCENE_INDEX.items():
+        print(f"{name:<18} {description}")
     return 0
 
 
@@ -133,12 +142,14 @@ def _cmd_run(args) -> int:
                              adaptive=False if args.fixed_step else args.adaptive,
                              extrapolation=args.extrapolation, engine=args.engine,
                              jacobian=args.jacobian, start_time=args.start_time,
-                             inputs=args.inputs)
+                             inputs=args.inputs, plot=not args.no_plot)
     finally:
         progress.close()
     print(run.table(verdict=False))
-    print(f"wrote {out / (args.scene + '.csv')}, {out / (args.scene + '.png')}, "
-          f"{out / (args.scene + '.json')}")
+    written = [out / f"{args.scene}.{kind}" for kind in ("csv", "png", "json")
+               if kind != "png" or not args.no_plot]
+    print("wrote " + ", ".join(map(str, written))
+          + (" (no plot: --no-plot)" if args.no_plot else ""))
     print(run.verdict())  # last, so that it is what a reader or a log tail sees
     if run.result.settings.get("interrupted"):
         return INTERRUPTED
@@ -237,7 +248,8 @@ def _cmd_sweep(args) -> int:
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mechfmu", description="Mechanical components as FMUs: build them, "
                      "join them into assemblies, run the named scenes of the seed.")
-    parser.add_argument("--version", action="version", version=f"mechfmu {_version()}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show program's version number and exit")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     sub.add_parser("components", help="list the components: the names build and show take") \
         .set_defaults(fn=_cmd_components)
@@ -308,6 +320,9 @@ def _parser() -> argparse.ArgumentParser:
                         "directional derivatives always")
     r.add_argument("--out", default="out", metavar="DIR",
                    help="output folder, made if missing (default: out)")
+    r.add_argument("--no-plot", action="store_true",
+                   help="write the CSV and JSON only, no .png (and no matplotlib to load: "
+                        "the quicker run for scripts)")
     r.set_defaults(fn=_cmd_run)
     x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU",
                        epilog=scene_list)

@@ -25,7 +25,7 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
     """The unit each ``instance.variable`` column is declared with, where one of our
     components declares it (a foreign FMU's columns are left out: no equations to ask)."""
     from components.component import Component
-    from components.dae import flatten
+    from fmus.build import component_facts  # recorded with its FMU: no flattening, no CasADi
     units, flat = {}, {}
     for column in columns:
         instance, _, name = column.partition(".")
@@ -33,9 +33,7 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
         if not isinstance(component, Component):
             continue
         if instance not in flat:
-            model = flatten(component)
-            flat[instance] = {v.name: v.unit for v in
-                              (*model.states, *model.outputs, *model.inputs, *model.parameters)}
+            flat[instance] = component_facts(component)["units"]
         unit = flat[instance].get(name)
         if unit:
             units[column] = unit

@@ -16,12 +16,12 @@ import time as wallclock
 import warnings
 from typing import Callable
 
-import casadi as ca
 import numpy as np
 
 from components.component import SOLVER_METHODS, Component
 from components.interfaces import ComponentError
 from components.dae import flatten
+from components.lazy import lazy
 from fmus.build import component_facts, recipes
 
 from ..assembly import Assembly, AssemblyError
@@ -35,6 +35,8 @@ from .build import library
 from .liveness import continuous_couplings, row_couplings
 from .prepare import (assembly_recipe, class_defaults, prepared, prepared_composite,
                       record_columns, rest_groups, structure_key)
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
