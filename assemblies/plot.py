@@ -25,7 +25,9 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
     """The unit each ``instance.variable`` column is declared with, where one of our
     components declares it (a foreign FMU's columns are left out: no equations to ask)."""
     from components.component import Component
-    from fmus.build import component_facts  # recorded with its FMU: no flattening, no CasADi
+    from fmus.build import component_facts
+
+    from .engine.prepare import class_defaults
     units, flat = {}, {}
     for column in columns:
         instance, _, name = column.partition(".")
@@ -33,7 +35,9 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
         if not isinstance(component, Component):
             continue
         if instance not in flat:
-            flat[instance] = component_facts(component)["units"]
+            # filed with the FMU the run fetched (its class, profile and options): read, not
+            # flattened, so a plot does not load CasADi
+            flat[instance] = component_facts(class_defaults(component))["units"]
         unit = flat[instance].get(name)
         if unit:
             units[column] = unit

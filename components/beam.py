@@ -4,8 +4,6 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
-import numpy as np
-
 from .beam_shapes import BASES, basis_names, modal_basis, shape_basis
 from .component import Component
 from .interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Mode, Option, Parameter,
@@ -13,6 +11,7 @@ from .interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Mode, Option, 
 from .lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 COORDINATES = ("assumed", "modal")
 MAX_MODES = 128

@@ -20,7 +20,9 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-import numpy as np
+from .lazy import lazy
+
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 BASES = ("poly2", "sine")
 
