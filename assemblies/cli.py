@@ -273,8 +273,9 @@ def _parser() -> argparse.ArgumentParser:
                         "COMPONENT` lists them with their ranges)")
     b.set_defaults(fn=_cmd_build)
     scene_list = "scenes: " + ", ".join(SCENE_NAMES)
-    r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png and .json; exits 1 "
-                                   "if a figure misses its accuracy", epilog=scene_list)
+    r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png (unless --no-plot) "
+                                   "and .json; exits 1 if a figure misses its accuracy",
+                       epilog=scene_list)
     r.add_argument("scene", type=_scene_name, help="the scene to run (listed below; "
                                                    "`mechfmu scenes` says what each is)")
     r.add_argument("--stop-time", type=float, metavar="SECONDS",
@@ -383,7 +384,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    # here, not at the top: it loads the components package (CasADi), which --help must not
+    # here, not at the top: the module-level imports stay the standard library's (a test
+    # checks it); components.errors itself loads nothing heavy
     from components.errors import MechfmuError
     try:
         return args.fn(args)
