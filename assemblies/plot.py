@@ -2,6 +2,7 @@
 events marked."""
 from __future__ import annotations
 
+import sys
 import textwrap
 from pathlib import Path
 
@@ -13,7 +14,20 @@ def pyplot():
     and the scene registry import every plotting module)."""
     import matplotlib
     matplotlib.use("Agg")  # files only: runs headless on CI and servers
-    import matplotlib.pyplot as plt
+    if "matplotlib.pyplot" in sys.modules:
+        return sys.modules["matplotlib.pyplot"]
+    import matplotlib.artist
+    # Each artist class matplotlib defines writes a docstring of every property its set()
+    # takes (artist.kwdoc): 0.15-0.3 s of the import, for help() texts a plot to a file
+    # never reads. Skipped while pyplot loads, then put back for whatever comes later.
+    kwdoc = getattr(matplotlib.artist, "kwdoc", None)
+    if callable(kwdoc):
+        matplotlib.artist.kwdoc = lambda artist: ""
+    try:
+        import matplotlib.pyplot as plt
+    finally:
+        if callable(kwdoc):
+            matplotlib.artist.kwdoc = kwdoc
     return plt
 
 
