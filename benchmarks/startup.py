@@ -109,7 +109,10 @@ def results_section(data: dict) -> list[str]:
            f"From `python -m benchmarks.startup --runs {data['runs']} --results` "
            f"({data['when']}, {data['machine']}); raw: `benchmarks/startup.json`. Each "
            "command is a fresh process on a warm cache (one untimed run first); median "
-           "(min-max) wall time. `mechfmu` is `python -m assemblies.cli`.", "",
+           "(min-max) wall time. `mechfmu` is `python -m assemblies.cli`. Load average "
+           f"{data['load_average'][0]:.1f} before and {data['load_average'][1]:.1f} after "
+           "the runs: a busy machine stretches every row alike, `python -c pass` shows by "
+           "how much.", "",
            "| command | median [s] | min-max [s] | target [s] | |", "|---|---|---|---|---|"]
     for r in data["rows"]:
         target = "-" if r["target_s"] is None else f"≤ {r['target_s']:g}"
@@ -134,12 +137,17 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.runs < 1:
         ap.error("--runs must be at least 1")
+    load_before = os.getloadavg()[0]
     rows = measure(args.runs)
     print(table(rows))
     data = {"when": time.strftime("%Y-%m-%d %H:%M"),
             "machine": f"{platform.node()}, {os.cpu_count()} cores, "
                        f"Python {platform.python_version()}",
+            # a busy machine stretches every figure alike: `python -c pass` shows by how much
+            "load_average": [load_before, os.getloadavg()[0]],
             "runs": args.runs, "rows": rows}
+    print(f"load average {load_before:.1f} before, {os.getloadavg()[0]:.1f} after "
+          f"({os.cpu_count()} cores)")
     Path(args.json).write_text(json.dumps(data, indent=1) + "\n")
     print(f"wrote {args.json}")
     if args.results:
