@@ -1,4 +1,4 @@
-"""The scenes of the registry, without importing them: name -> (family module, description).
+"""The registry's scenes, not imported: name -> (family module, description).
 
 Generated from the registry (:mod:`assemblies.scenes`) by
 ``python -m assemblies.scenes.listing --index``; a test holds it to the registry, so the

@@ -4,9 +4,10 @@ A user feels the whole process (interpreter, imports, FMUs loaded, the run, the 
 not the simulation alone: each command below is started afresh `--runs` times on a warm
 cache (one untimed run of each first builds and files its FMUs and warms the OS's file
 cache and the bytecode of every module), and its wall time reported as median, min and
-max. `mechfmu` is run as ``python -m assemblies.cli`` of this interpreter, so the
-checkout on ``PYTHONPATH`` is what is timed. Writes benchmarks/startup.json (``--json``) and, with ``--results``, the
-section "Startup of a command (issue 26)" of benchmarks/RESULTS.md.
+max, with the median CPU time beside. `mechfmu` is run as ``python -m assemblies.cli``
+of this interpreter, so the checkout on ``PYTHONPATH`` is what is timed. Writes
+benchmarks/startup.json (``--json``) and, with ``--results``, the section "Startup of a
+command (issue 26)" of benchmarks/RESULTS.md.
 
 The times depend on the machine and on its load; no test asserts them (the imports each
 path makes are checked instead: tests/unit/test_import_paths.py).

@@ -70,7 +70,7 @@ def rewrite(path: str | Path, tables: list[tuple[str, str]] | None = None) -> bo
 
 
 INDEX_PATH = Path(__file__).parent.parent / "scene_names.py"
-INDEX_HEAD = '''"""The scenes of the registry, without importing them: name -> (family module, description).
+INDEX_HEAD = '''"""The registry's scenes, not imported: name -> (family module, description).
 
 Generated from the registry (:mod:`assemblies.scenes`) by
 ``python -m assemblies.scenes.listing --index``; a test holds it to the registry, so the
