@@ -107,3 +107,12 @@ def test_the_fmpy_engine_loads_fmpy_and_the_python_masters(cached, tmp_path):
                       "--out", str(tmp_path), codes=(0, 1))
     assert {"fmpy", "assemblies.masters.cosim"} <= loaded
     assert "matplotlib" not in loaded
+
+
+def test_no_plot_says_so_and_writes_no_png(cached, tmp_path, capsys):
+    from assemblies.cli import main
+    assert main(["run", "stick_slip", "--no-plot", "--out", str(tmp_path)]) == 0
+    wrote = [line for line in capsys.readouterr().out.splitlines() if line.startswith("wrote ")]
+    assert wrote == [f"wrote {tmp_path / 'stick_slip.csv'}, {tmp_path / 'stick_slip.json'} "
+                     "(no plot: --no-plot)"]
+    assert not (tmp_path / "stick_slip.png").exists()
