@@ -19,7 +19,7 @@ _WHERE = {
     "simulate_monolithic": ".engine",
     "export_fmu": ".fmu_export",
     "FMU": ".foreign", "FmuError": ".foreign",
-    "SimulationError": ".masters.cosim",
+    "SimulationError": "components.errors",
     "composite": ".masters.monolithic",
     "Result": ".result", "Table": ".result",
     "run_scene": ".run", "run_scene_full": ".run", "rerun": ".runfile",

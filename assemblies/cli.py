@@ -11,7 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from assemblies.scene_names import SCENE_NAMES
+from assemblies.scene_names import SCENE_INDEX, SCENE_NAMES
 
 
 class UsageError(ValueError):
@@ -34,6 +34,15 @@ class _Parser(argparse.ArgumentParser):
 def _version() -> str:
     from assemblies.version import mechfmu_version
     return mechfmu_version()
+
+
+class _Version(argparse.Action):
+    """--version, its number looked up only when asked for: importlib.metadata takes
+    0.03-0.1 s, which every other command would pay."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"mechfmu {_version()}")  # on stdout, as argparse's own version action
+        parser.exit()
 
 
 def _scene_name(name: str) -> str:
@@ -87,13 +96,13 @@ def _cmd_show(args) -> int:
 
 
 def _cmd_scenes(args) -> int:
-    from assemblies.scenes import SCENES
     if args.markdown:
         from assemblies.scenes.listing import markdown_table
         print(markdown_table())
         return 0
-    for name, sc in SCENES.items():
-        print(f"{name:<18} {sc.description}")
+    # from the index, not the registry: listing 30 scenes must not import them all
+    for name, (_, description) in SCENE_INDEX.items():
+        print(f"{name:<18} {description}")
     return 0
 
 
@@ -147,12 +156,14 @@ def _cmd_run(args) -> int:
     stop = kwargs["stop_time"] if kwargs["stop_time"] is not None else sc.stop_time
     progress = ProgressReport(stop, start_time=kwargs["start_time"] or 0.0)
     try:
-        run = run_scene_full(**kwargs, out=out, progress=progress)
+        run = run_scene_full(**kwargs, out=out, progress=progress, plot=not args.no_plot)
     finally:
         progress.close()
     print(run.table(verdict=False))
-    print(f"wrote {out / (run.name + '.csv')}, {out / (run.name + '.png')}, "
-          f"{out / (run.name + '.json')}")
+    written = [out / f"{run.name}.{kind}" for kind in ("csv", "png", "json")
+               if kind != "png" or not args.no_plot]
+    print("wrote " + ", ".join(map(str, written))
+          + (" (no plot: --no-plot)" if args.no_plot else ""))
     print(run.verdict())  # last, so that it is what a reader or a log tail sees
     if run.result.settings.get("interrupted"):
         return INTERRUPTED
@@ -251,7 +262,8 @@ def _cmd_sweep(args) -> int:
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mechfmu", description="Mechanical components as FMUs: build them, "
                      "join them into assemblies, run the named scenes of the seed.")
-    parser.add_argument("--version", action="version", version=f"mechfmu {_version()}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show program's version number and exit")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     sub.add_parser("components", help="list the components: the names build and show take") \
         .set_defaults(fn=_cmd_components)
@@ -276,8 +288,9 @@ def _parser() -> argparse.ArgumentParser:
                         "COMPONENT` lists them with their ranges)")
     b.set_defaults(fn=_cmd_build)
     scene_list = "scenes: " + ", ".join(SCENE_NAMES)
-    r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png and .json; exits 1 "
-                                   "if a figure misses its accuracy", epilog=scene_list)
+    r = sub.add_parser("run", help="run a scene: writes DIR/SCENE.csv, .png (unless --no-plot) "
+                                   "and .json; exits 1 if a figure misses its accuracy",
+                       epilog=scene_list)
     r.add_argument("scene", type=_scene_name, nargs="?",
                    help="the scene to run (listed below; `mechfmu scenes` says what each is); "
                         "with --from, the file's")
@@ -332,6 +345,9 @@ def _parser() -> argparse.ArgumentParser:
                         "directional derivatives always")
     r.add_argument("--out", default="out", metavar="DIR",
                    help="output folder, made if missing (default: out)")
+    r.add_argument("--no-plot", action="store_true",
+                   help="write the CSV and JSON only, no .png (and no matplotlib to load: "
+                        "the quicker run for scripts)")
     r.set_defaults(fn=_cmd_run)
     x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU",
                        epilog=scene_list)
@@ -394,7 +410,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    # here, not at the top: it loads the components package (CasADi), which --help must not
+    # here, not at the top: the module-level imports stay the standard library's (a test
+    # checks it); components.errors itself loads nothing heavy
     from components.errors import MechfmuError
     try:
         return args.fn(args)

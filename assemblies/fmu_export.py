@@ -42,7 +42,7 @@ from .engine.restore import inexact_restores
 from .experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                          fixed_step_fallback)
 from .foreign import FMU, check_mode
-from .masters.me import coupling_order
+from .masters.loops import coupling_order
 
 FMU_C_DIR = Path(__file__).parent / "engine" / "fmu"
 # the engine's files the FMU links: its two masters and what they stand on

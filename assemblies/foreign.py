@@ -41,15 +41,15 @@ import os
 import zipfile
 from pathlib import Path
 
-import fmpy
-from fmpy import read_model_description
-
 from components.component import Block
 from components.interfaces import (SIGNAL_IN, SIGNAL_OUT, ComponentError, Parameter, Port,
                                    Profile, State, signal)
+from components.lazy import lazy
 
 from .assembly import AssemblyError
 from .value_types import MAX_ARRAY, RANGES, article, canonical, check_value, code, element_names, size
+
+fmpy = lazy("fmpy")  # a foreign FMU's reader: loaded by the first one read (0.05-0.1 s)
 
 # the assembly modes an FMU interface can take part in
 INTERFACE_MODES = {"ModelExchange": "me", "CoSimulation": "cosim"}
@@ -285,7 +285,7 @@ def _read_model_description(path: Path):
     try:
         # not validated: many tools write descriptions fmpy's validation rejects (CasADi's
         # export lacks UnitDefinitions); what the engine needs is read all the same
-        md = read_model_description(str(path), validate=False)
+        md = fmpy.read_model_description(str(path), validate=False)
     except Exception as exc:  # noqa: BLE001 - fmpy raises many kinds; one line names it
         reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise FmuError(f"cannot read the modelDescription.xml of '{path}': {reason}") from None

@@ -2,6 +2,7 @@
 events marked."""
 from __future__ import annotations
 
+import sys
 import textwrap
 from pathlib import Path
 
@@ -15,7 +16,20 @@ def pyplot():
     and the scene registry import every plotting module)."""
     import matplotlib
     matplotlib.use("Agg")  # files only: runs headless on CI and servers
-    import matplotlib.pyplot as plt
+    if "matplotlib.pyplot" in sys.modules:
+        return sys.modules["matplotlib.pyplot"]
+    import matplotlib.artist
+    # Each artist class matplotlib defines writes a docstring of every property its set()
+    # takes (artist.kwdoc): 0.15-0.3 s of the import, for help() texts a plot to a file
+    # never reads. Skipped while pyplot loads, then put back for whatever comes later.
+    kwdoc = getattr(matplotlib.artist, "kwdoc", None)
+    if callable(kwdoc):
+        matplotlib.artist.kwdoc = lambda artist: ""
+    try:
+        import matplotlib.pyplot as plt
+    finally:
+        if callable(kwdoc):
+            matplotlib.artist.kwdoc = kwdoc
     return plt
 
 
@@ -44,10 +58,12 @@ def column_units(assembly, columns: list[str]) -> dict[str, str]:
 def _declared_units(component) -> dict[str, str]:
     from components.component import Component
     if isinstance(component, Component):
-        from components.dae import flatten
-        model = flatten(component)
-        return {v.name: v.unit for v in
-                (*model.states, *model.outputs, *model.inputs, *model.parameters)}
+        from fmus.build import component_facts
+
+        from .engine.prepare import class_defaults
+        # filed with the FMU the run fetched (its class, profile and options): read, not
+        # flattened, so a plot does not load CasADi
+        return component_facts(class_defaults(component))["units"]
     md = getattr(component, "model_description", None)  # assemblies.foreign.FMU
     if md is None:
         return {}

@@ -13,10 +13,6 @@ from .assembly import AssemblyError
 from .engine.cosim import DEFAULT_SCHEME as DEFAULT_COSIM
 from .foreign import check_mode
 from .inputs import with_inputs
-from .masters.cosim import cosimulate
-from .masters.me import simulate_me
-from .masters.monolithic import simulate_monolithic
-from .plot import column_units, plot_result
 from .pruning import prune_unrecorded
 from .result import Result
 from .runfile import run_record, set_instance_values
@@ -96,7 +92,10 @@ def _masters(engine: str):
     """(cosimulate, simulate_me, simulate_monolithic) of the chosen engine: ``c``, the
     compiled engine (one C call per run), or ``fmpy``, the Python reference masters
     that drive the same FMUs through fmpy."""
-    if engine == "fmpy":
+    if engine == "fmpy":  # here: fmpy and scipy's integrators load in 0.3-0.5 s
+        from .masters.cosim import cosimulate
+        from .masters.me import simulate_me
+        from .masters.monolithic import simulate_monolithic
         return cosimulate, simulate_me, simulate_monolithic
     from .engine.cosim import cosimulate as c_cosimulate
     from .engine.me import simulate_me as c_simulate_me, simulate_monolithic as c_monolithic
@@ -109,7 +108,7 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
               mode: str | None = None, adaptive: bool | float | None = None,
               extrapolation: int | None = None, engine: str = "c", prune: bool = True,
               jacobian: str | None = None, start_time: float | None = None,
-              inputs=None) -> Result:
+              inputs=None, plot: bool = True) -> Result:
     """Run a scene and return its result table (``res['block.x']``).
 
     `mode` picks the master: ``cosim`` (Co-Simulation FMUs), ``me`` (Model Exchange FMUs
@@ -125,7 +124,8 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     communication step `step`, ``adaptive=TOL`` for another tolerance; `extrapolation`
     (0, 1, 2) is the input extrapolation order; `scheme` the sweep, ``jacobi`` (default) or
     ``gauss-seidel``. These three belong to ``cosim``: another mode refuses them.
-    With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``.
+    With `out`, also writes ``out/NAME.csv``, ``out/NAME.png`` and ``out/NAME.json``;
+    ``plot=False`` leaves the .png out (and matplotlib unloaded: 0.5-1 s of a short run).
     The measured figures are on ``res.figures``.
 
     Instances that cannot influence the recorded outputs are not run
@@ -144,7 +144,7 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     """
     return run_scene_full(name, stop_time, step, tolerance, params, out, scheme, progress,
                           mode, adaptive, extrapolation, engine, prune, jacobian=jacobian,
-                          start_time=start_time, inputs=inputs).result
+                          start_time=start_time, inputs=inputs, plot=plot).result
 
 
 def cosim_scheme(adaptive: bool | float | None, extrapolation: int | None) -> dict:
@@ -191,7 +191,7 @@ def check_choices(mode: str, engine: str) -> None:
 def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None, out=None,
                    scheme=None, progress=None, mode=None, adaptive=None,
                    extrapolation=None, engine="c", prune=True, jacobian=None, start_time=None,
-                   inputs=None, values=None) -> SceneRun:
+                   inputs=None, values=None, plot=True) -> SceneRun:
     """As :func:`run_scene`, with the figures; `name` may also be a :class:`Scene` that is
     not in the registry (a parameter study runs an assembly given to it as one).
     `values`: every instance's values as a run's JSON file records them
@@ -258,9 +258,10 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     if out is not None:
         result.to_csv(out / f"{name}.csv")
         title, png = f"{name}: {sc.description}", out / f"{name}.png"
-        if sc.picture is not None:
+        if plot and sc.picture is not None:
             sc.picture(result, title, png)
-        else:
+        elif plot:
+            from .plot import column_units, plot_result  # matplotlib: only for a plot
             plot_result(result, sc.plot, title, png, column_units(asm, sc.plot))
         (out / f"{name}.json").write_text(json.dumps(run.summary(), indent=2) + "\n")
     return run

@@ -1,15 +1,88 @@
-"""The scene names in the registry's order, without importing the scenes.
+"""The registry's scenes, not imported: name -> (family module, description).
 
-The scenes import the components, and the components CasADi (seconds): the command line
-checks and lists a scene name before it loads any of that. A test holds this list to the
-registry (:data:`assemblies.scenes.SCENES`), so the two cannot drift.
+Generated from the registry (:mod:`assemblies.scenes`) by
+``python -m assemblies.scenes.listing --index``; a test holds it to the registry, so the
+two cannot drift. The scenes import the components, their references scipy and their
+plots matplotlib: the command line checks and lists a scene, and
+:func:`assemblies.scenes.scene` finds the one family module to import, from this file alone.
 """
-SCENE_NAMES = (
-    "stick_slip", "friction_damping", "axle_pendulum", "coin_rolling", "coin_upright",
-    "coin_circle", "torque_free_flip", "skate", "beam_free_vibration", "beam_tip_force",
-    "moving_table", "conveyor", "two_block_belt", "axle_motor", "beam_friction_damper",
-    "speed_control", "steady_sliding", "stick_slip_damped", "stick_slip_smooth",
-    "distinguished_limit", "distinguished_limit_n4", "resonance_growth", "resonance_below",
-    "cylinder_incline", "shell_rolling", "shell_frictionless", "rod_on_rollers",
-    "wobbling_disk", "thrown_disk", "nutation_damper",
-)
+
+SCENE_INDEX = {
+    'stick_slip': ('friction',
+        'seed 9.2: block pulled through a spring at constant speed, stick-slip'),
+    'friction_damping': ('friction',
+        'seed 9.4: free vibration with dry friction, amplitudes fall linearly'),
+    'axle_pendulum': ('axle',
+        'seed 8.5: disk on an inclined axle through its rim, released from rest'),
+    'coin_rolling': ('coin',
+        'seed ch. 6: a coin rolling without slip from a given state'),
+    'coin_upright': ('coin',
+        'seed ch. 6: straight upright rolling at 1.1 x the critical speed'),
+    'coin_circle': ('coin',
+        'seed ch. 6: steady circular rolling at a 30 degree lean'),
+    'torque_free_flip': ('coin',
+        'seed 8.3: spin about the intermediate axis turns the body over'),
+    'skate': ('coin',
+        'seed 5.5: skate with a knife edge on ice, its heading settles'),
+    'beam_free_vibration': ('beam',
+        'seed 7.5: cantilever released from its static shape under a tip load, undamped'),
+    'beam_tip_force': ('beam',
+        'seed 7.5: damped cantilever settling under a constant tip force'),
+    'moving_table': ('table',
+        'seed 9.6 ex. 1: block sliding on a table shaken as U sin(wt)'),
+    'conveyor': ('table',
+        'seed 9.6 ex. 2: asymmetric shaking conveys the block at a steady speed'),
+    'two_block_belt': ('joined',
+        'two blocks on a moving belt, springs to the walls and between them, Coulomb '
+        'friction: stick, slip, re-stick, then steady sliding'),
+    'axle_motor': ('joined',
+        "seed 8.5's disk with Coulomb bearing friction, lifted by a DC motor through a "
+        'torsional spring until it stalls'),
+    'beam_friction_damper': ('joined',
+        'cantilever released from a tip deflection, its tip rubbing on a spring-loaded '
+        'friction pad (Jenkins element) until the pad sticks for good'),
+    'speed_control': ('speed_control',
+        'a foreign PI controller FMU (CasADi export, FMI 3 ME) holds a block sliding on a'
+        ' rough floor at 1 m/s'),
+    'steady_sliding': ('friction_seed',
+        'seed 9.2: steady sliding x = v t - mu_k m g/k; a disturbance keeps its amplitude'
+        ' without damping and dies out at d/2m with it (exact Coulomb friction)'),
+    'stick_slip_damped': ('friction_seed',
+        'seed 9.2: stick-slip survives a little damping in the spring (d = 0.05), not a '
+        'lot (d = 0.5 slides steadily after one slip); exact Coulomb friction'),
+    'stick_slip_smooth': ('friction_seed',
+        'seed 9.2, Fig. 9.4: the smooth friction law Eq. 9.5 (eps = 1e-3, and 1e-4) '
+        "against the exact stick-slip's t1 and t2"),
+    'distinguished_limit': ('friction_seed',
+        'seed 9.3: the block as two halves m/2 joined by a stiff spring K = 1e2, 1e3, 1e4'
+        ' N/m, pulled as in 9.2 (exact Coulomb friction): the front half slips at t1/2 = '
+        "4 s, before the rigid block's 8 s, whatever K"),
+    'distinguished_limit_n4': ('friction_seed',
+        'seed 9.3: the block as n = 4 masses m/4 joined by stiff springs K = 1e2, 1e3, '
+        '1e4 N/m (exact Coulomb friction): the front mass slips earlier still, at t1/4 = '
+        '2 s, whatever K'),
+    'resonance_growth': ('friction_seed',
+        'seed 9.5, Fig. 9.7: spring end moved as U sin t, U = 1, mu = 0.6, x(0) = 10; '
+        "exact Coulomb friction (the seed's figure uses Eq. 9.10, mu tanh(v/0.001), "
+        "without Eq. 9.7's factor 3): |x| grows at (U pi - 4 mu)/(2 pi) = 0.118"),
+    'resonance_below': ('friction_seed',
+        "seed 9.5, Fig. 9.6: U = 0.4 < 4 mu / pi, exact Coulomb friction (the seed's "
+        'figure uses Eq. 9.10, mu tanh(v/0.001)): from x(0) = 10 no resonant growth; from'
+        ' x(0) = -10, in phase, |x| falls at (U pi - 4 mu)/(2 pi) = -0.182'),
+    'cylinder_incline': ('bodies_seed',
+        'seed 8.1: a uniform cylinder rolls without slip down a 30 degree incline'),
+    'shell_rolling': ('bodies_seed',
+        'seed 8.2: a hemispherical shell rocks on a table without slip'),
+    'shell_frictionless': ('bodies_seed',
+        'seed 8.2: a hemispherical shell rocks on a frictionless table'),
+    'rod_on_rollers': ('bodies_seed',
+        'seed 9.6 ex. 3: a rod on two counter-rotating rollers oscillates'),
+    'wobbling_disk': ('bodies_seed',
+        'seed 8.4: a thrown disk wobbles at twice its spin rate'),
+    'thrown_disk': ('bodies_seed',
+        'seed 8.3.2: a disk thrown with an imperfect spin, its axis cones about H'),
+    'nutation_damper': ('bodies_seed',
+        'seed 8.3.1: spun about its minor axis, a body with a viscous damper inside ends '
+        'spinning about its major axis'),
+}
+SCENE_NAMES = tuple(SCENE_INDEX)

@@ -38,12 +38,11 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
-from components.errors import writable_folder
+from components.errors import SimulationError, writable_folder
 from components.interfaces import ComponentError
 
 from .assembly import Assembly, AssemblyError
 from .limits import check_sweep_runs, check_workers
-from .masters.cosim import SimulationError
 from .scenes import Scene, scene
 
 REDUCTIONS = ("end", "max", "min", "absmax")

@@ -1,36 +1,58 @@
 """Acausal CasADi DAE components with MSL-style ports.
 
 ``COMPONENTS`` maps the names that ``mechfmu build`` takes to component classes.
+
+The names below are imported on first use (PEP 562): ``from components.errors import
+MechfmuError`` (every command does) loads the errors, not numpy and the twenty modules
+of components.
 """
-from .component import Block, Component
-from .dae import FlatModel, flatten
-from .interfaces import ComponentError, Parameter, Port, Profile, State
-from .axle import RigidBodyOnAxle
-from .beam import AssumedModesBeam
-from .dissipation import NutationDamperBody
-from .force_sources import ConstantForce, Force
-from .motion_sources import HarmonicMotion, SineMotion
-from .rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
-from .rolling_coin import RollingCoin
-from .seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
-from .sensors import ForceSensor, PositionSensor, SpeedSensor
-from .sources import ConstantSpeed, Position, Speed
-from .spring_block import SpringBlock
-from .table_sources import TimeTable
-from .rotational import Motor, TorsionalSpring
-from .translational import MassWithFriction, Spring, SpringDamper
+from __future__ import annotations
 
-COMPONENTS = {cls.__name__: cls for cls in (
-    SpringBlock, ConstantSpeed, SineMotion, HarmonicMotion, ConstantForce, AssumedModesBeam,
-    RigidBodyOnAxle, InclinedCylinder, HemisphericalShell, RodOnRollers, RollingCoin,
-    TorqueFreeBody, NutationDamperBody, WobblingDisk, Skate, MassWithFriction, Spring,
-    SpringDamper, TorsionalSpring, Motor, Force, Position, Speed, PositionSensor, SpeedSensor, ForceSensor,
-    TimeTable)}
+import importlib
 
-__all__ = ["AssumedModesBeam", "Block", "COMPONENTS", "Component", "ComponentError",
-           "ConstantForce", "ConstantSpeed", "FlatModel", "Force", "ForceSensor",
-           "HarmonicMotion", "SineMotion", "HemisphericalShell", "InclinedCylinder",
-           "MassWithFriction", "Motor", "NutationDamperBody", "Parameter", "Port", "Position",
-           "PositionSensor", "Profile", "RigidBodyOnAxle", "RodOnRollers", "RollingCoin", "Skate", "Speed",
-           "SpeedSensor", "Spring", "SpringBlock", "SpringDamper", "State", "TimeTable", "TorsionalSpring",
-           "TorqueFreeBody", "WobblingDisk", "flatten"]
+# name -> the module that defines it
+_WHERE = {
+    "Block": ".component", "Component": ".component",
+    "FlatModel": ".dae", "flatten": ".dae",
+    "ComponentError": ".interfaces", "Parameter": ".interfaces", "Port": ".interfaces",
+    "Profile": ".interfaces", "State": ".interfaces",
+    "RigidBodyOnAxle": ".axle", "AssumedModesBeam": ".beam",
+    "NutationDamperBody": ".dissipation",
+    "ConstantForce": ".force_sources", "Force": ".force_sources",
+    "HarmonicMotion": ".motion_sources", "SineMotion": ".motion_sources",
+    "Skate": ".rigid_bodies", "TorqueFreeBody": ".rigid_bodies", "WobblingDisk": ".rigid_bodies",
+    "RollingCoin": ".rolling_coin",
+    "HemisphericalShell": ".seed_bodies", "InclinedCylinder": ".seed_bodies",
+    "RodOnRollers": ".seed_bodies",
+    "ForceSensor": ".sensors", "PositionSensor": ".sensors", "SpeedSensor": ".sensors",
+    "ConstantSpeed": ".sources", "Position": ".sources", "Speed": ".sources",
+    "SpringBlock": ".spring_block", "TimeTable": ".table_sources",
+    "Motor": ".rotational", "TorsionalSpring": ".rotational",
+    "MassWithFriction": ".translational", "Spring": ".translational",
+    "SpringDamper": ".translational",
+}
+
+# the components `mechfmu build` and `show` take, in the order `mechfmu components` lists them
+_REGISTERED = (
+    "SpringBlock", "ConstantSpeed", "SineMotion", "HarmonicMotion", "ConstantForce",
+    "AssumedModesBeam", "RigidBodyOnAxle", "InclinedCylinder", "HemisphericalShell",
+    "RodOnRollers", "RollingCoin", "TorqueFreeBody", "NutationDamperBody", "WobblingDisk",
+    "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
+    "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable")
+
+__all__ = sorted([*_WHERE, "COMPONENTS"])
+
+
+def __getattr__(name: str):
+    if name == "COMPONENTS":
+        value = {key: __getattr__(key) for key in _REGISTERED}
+    elif name in _WHERE:
+        value = getattr(importlib.import_module(_WHERE[name], __name__), name)
+    else:
+        raise AttributeError(f"module 'components' has no attribute '{name}'")
+    globals()[name] = value  # once: later lookups do not come back here
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_WHERE) | {"COMPONENTS"})

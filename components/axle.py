@@ -3,13 +3,14 @@ from __future__ import annotations
 
 import math
 
-import casadi as ca
-import numpy as np
-
 from .component import Component
 from .friction import coulomb_modes
 from .interfaces import (FORCE_IN, MOTION_IN, ROTATIONAL, ComponentError, Constraint, Mode,
                          Option, Parameter, Port, Profile, State)
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 _INERTIA = ("I_xx", "I_yy", "I_zz", "I_xy", "I_xz", "I_yz")
 # relative slack for the semidefinite (equality-allowed) checks: a flat disk sits exactly on

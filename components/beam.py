@@ -4,14 +4,14 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
-import casadi as ca
-import numpy as np
-from scipy.linalg import eigh
-
-from .beam_shapes import BASES, modal_basis, shape_basis
+from .beam_shapes import BASES, basis_names, modal_basis, shape_basis
 from .component import Component
 from .interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Mode, Option, Parameter,
                          Port, Profile, State)
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 COORDINATES = ("assumed", "modal")
 MAX_MODES = 128
@@ -119,7 +119,7 @@ class AssumedModesBeam(Component):
         Parameter("zeta", 0.0, "1", "modal damping ratio of the bare cantilever's modes",
                   min=0.0),
     )
-    states = _assumed_states(shape_basis("sine", 4).names)  # default options; instances redeclare
+    states = _assumed_states(basis_names("sine", 4))  # default options; instances redeclare
     ports = (Port("tip", TRANSLATIONAL, "free end of the beam, moving transversally"),)
     profiles = (Profile("free_tip", "tip force in; tip displacement, velocity and acceleration out",
                         {"tip": FORCE_IN}),)
@@ -240,6 +240,7 @@ class AssumedModesBeam(Component):
 
     def natural_frequencies(self) -> np.ndarray:
         """Undamped natural frequencies [rad/s], ascending: K u = ω² M u (seed Eq. 7.4)."""
+        from scipy.linalg import eigh  # here: scipy loads in 0.1-0.3 s, a beam's run may not ask
         mass, stiffness = self.matrices()
         return np.sqrt(eigh(stiffness, mass, eigvals_only=True))
 

@@ -20,8 +20,9 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-import numpy as np
-from scipy.linalg import eigh
+from .lazy import lazy
+
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 BASES = ("poly2", "sine")
 
@@ -74,20 +75,29 @@ def quadrature_points(kind: str, n_modes: int) -> int:
     return 4 if kind == "poly2" else 2 * n_modes + 64
 
 
+def basis_names(kind: str, n_modes: int) -> tuple[str, ...]:
+    """The generalised coordinates of a basis, named as in the seed, without computing it
+    (a class declaration needs them, and the basis takes scipy)."""
+    if kind == "poly2":
+        return ("a1", "a2")
+    if kind == "sine":
+        return tuple(f"a{i}" for i in range(n_modes + 1))
+    raise ValueError(f"basis must be one of {', '.join(BASES)}, not {kind!r}")
+
+
 @functools.lru_cache(maxsize=None)
 def shape_basis(kind: str, n_modes: int) -> ShapeBasis:
     """The basis ``poly2`` (n_modes ignored) or ``sine`` with N = n_modes (N + 1 coordinates)."""
+    names = basis_names(kind, n_modes)
     if kind == "poly2":
-        shapes, names = _poly2, ("a1", "a2")
+        shapes = _poly2
         tip_value, tip_slope = np.array([1.0, 1.0]), np.array([2.0, 3.0])
     elif kind == "sine":
-        shapes, names = _sine(n_modes), tuple(f"a{i}" for i in range(n_modes + 1))
+        shapes = _sine(n_modes)
         k = np.arange(1, n_modes + 1)
         # exact at ξ = 1 (sin kπ = 0, cos kπ = (-1)^k) rather than sin(kπ) ≈ 1e-16
         tip_value = np.concatenate([[1.0], np.zeros(n_modes)])
         tip_slope = np.concatenate([[2.0], k * np.pi * (-1.0) ** k])
-    else:
-        raise ValueError(f"basis must be one of {', '.join(BASES)}, not {kind!r}")
     xi, weights = np.polynomial.legendre.leggauss(quadrature_points(kind, n_modes))
     xi, weights = (xi + 1) / 2, weights / 2  # from [-1, 1] to [0, 1]
     phi, _, phi_xx = shapes(xi)
@@ -108,6 +118,7 @@ def _modal_damping(mass: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
     Φ̂ are the M̂-normalised eigenvectors of K̂ Φ̂ = M̂ Φ̂ Ω̂², so Ĉ = M̂ Φ̂ Ω̂ Φ̂ᵀ M̂.
     Scaled by 2 ζ sqrt(m EI / L³) it damps every mode of the bare beam with ratio ζ.
     """
+    from scipy.linalg import eigh  # here: scipy takes 0.1-0.3 s to load, a run of FMUs none
     eigenvalues, modes = eigh(stiffness, mass)
     projected = mass @ modes
     damping = (projected * np.sqrt(eigenvalues)) @ projected.T
@@ -150,6 +161,7 @@ def modal_basis(kind: str, n_modes: int) -> ModalBasis:
     modes are numbers computed once, and EI, L, m only scale the frequencies. Every mode of
     a cantilever moves its tip, so the tip normalisation never divides by zero (checked).
     """
+    from scipy.linalg import eigh  # here: scipy takes 0.1-0.3 s to load, a run of FMUs none
     basis = shape_basis(kind, n_modes)
     eigenvalues, modes = eigh(basis.stiffness, basis.mass)  # modes.T @ M̂ @ modes = I
     tip = basis.tip_value @ modes

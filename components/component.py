@@ -14,10 +14,11 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
-import numpy as np
-
 from .interfaces import (ComponentError, Constraint, Mode, Option, Parameter, Port,
                          Profile, State)
+from .lazy import lazy
+
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 
 class Block:

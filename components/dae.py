@@ -19,11 +19,12 @@ import itertools
 from dataclasses import dataclass, field
 from types import SimpleNamespace
 
-import casadi as ca
-import numpy as np
-
 from .component import Component
 from .interfaces import (FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, SIGNAL_OUT, ComponentError, Mode)
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 
 @dataclass

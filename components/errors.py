@@ -21,6 +21,11 @@ class ComponentError(MechfmuError, ValueError):
     """Bad input to a component: the message names the component and what is allowed."""
 
 
+class SimulationError(MechfmuError, RuntimeError):
+    """An FMU refused a call; the message carries what the FMU logged. (Here, not with the
+    masters that raise it: the compiled engine raises it too, and must not load fmpy.)"""
+
+
 def number(value, what: str, error: type[MechfmuError] = ComponentError,
            allowed: str = "a number") -> float:
     """`value` as a float if it is a real number (not a bool, not a string), else

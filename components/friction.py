@@ -8,7 +8,9 @@ and end a slide when the relative velocity reaches zero.
 """
 from __future__ import annotations
 
-import casadi as ca
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limit,

@@ -8,10 +8,11 @@ second order.
 """
 from __future__ import annotations
 
-import casadi as ca
-
 from .component import Component
 from .interfaces import FORCE_IN, TRANSLATIONAL, Parameter, Port, Profile
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 _KINEMATIC = (Profile("kinematic", "motion out, reaction force in", {"flange": FORCE_IN}),)
 

@@ -3,10 +3,11 @@ from __future__ import annotations
 
 import math
 
-import casadi as ca
-
 from .component import Component
 from .interfaces import Constraint, Parameter, Profile, State
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 def rotation_313(phi, theta, psi):

@@ -1,10 +1,11 @@
 """MSL-style rotational elements for joining scenes: a torsional spring and a DC motor."""
 from __future__ import annotations
 
-import casadi as ca
-
 from .component import Component
 from .interfaces import FORCE_IN, MOTION_IN, ROTATIONAL, Parameter, Port, Profile, State
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 class TorsionalSpring(Component):

@@ -1,10 +1,11 @@
 """Three one-degree-of-freedom bodies from Chatterjee, Intermediate Dynamics: 8.1, 8.2 and 9.6."""
 from __future__ import annotations
 
-import casadi as ca
-
 from .component import Component
 from .interfaces import Constraint, Option, Parameter, Profile, State
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 _FREE = (Profile("free", "no connectors: released from its start values"),)
 

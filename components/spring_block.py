@@ -1,12 +1,13 @@
 """The spring-block with dry friction of Chatterjee, Intermediate Dynamics, 9.2–9.6."""
 from __future__ import annotations
 
-import casadi as ca
-
 from .component import Component
 from .friction import coulomb_modes
 from .interfaces import (FIXED, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Option, Parameter,
                          Port, Profile, State)
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 #: a smooth law's block slides once |v| passes this many eps (stuck again below half)

@@ -19,12 +19,13 @@ from __future__ import annotations
 
 import math
 
-import casadi as ca
-import numpy as np
-
 from .component import Component
 from .interfaces import (SIGNAL_OUT, ComponentError, Constraint, Mode, Option, Parameter, Port,
                          Profile, signal)
+from .lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
+np = lazy("numpy")  # loaded by the first array: listing the components needs none
 
 #: the longest table a TimeTable takes: each evaluation of its output walks the rows
 MAX_ROWS = 4096

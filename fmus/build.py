@@ -15,6 +15,7 @@ it at once (:func:`fetch_fmu`).
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import os
 import platform
 import shutil
@@ -26,22 +27,22 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import casadi as ca
-import fmpy
-
 from components.component import Component
 from components.errors import ComponentError, MechfmuError, check_tolerance, writable_file
 from components.dae import flatten
+from components.lazy import lazy
 
 from . import integrity
 from .codegen import generate_c, time_invariant
 from .documentation import documentation_html
 from .model_description import DEFAULT_FMI, FMI_VERSIONS, model_description
 from .recipe import RecipeStore, recipe
-from .sources import build_description
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 RUNTIME_DIR = Path(__file__).parent / "runtime"
-FMI_HEADERS = Path(fmpy.__file__).parent / "c-code"
+# found, not imported: fmpy takes 0.05-0.1 s to load, and a cached run needs only its headers
+FMI_HEADERS = Path(importlib.util.find_spec("fmpy").origin).parent / "c-code"
 CFLAGS = ["-std=c99", "-O2", "-fPIC", "-fvisibility=hidden", "-shared", "-Wall"]
 # MECHFMU_SANITIZE=1 (make asan): every library mechfmu compiles (FMUs, the engine, the
 # assembly FMU) carries AddressSanitizer and UBSan. The flags are part of every cache key,
@@ -179,12 +180,16 @@ def model_facts(model) -> dict:
     input}: the FMU extrapolates them itself), whether an event indicator is written in terms of time (it can move
     while every state stands still), whether the model can end a run, and whether it is
     autonomous: time appears in none of its derivatives, outputs and indicators, so with
-    its inputs held it stands still wherever its derivatives are zero."""
+    its inputs held it stands still wherever its derivatives are zero; and the unit of
+    each variable that has one."""
     return {"chained_inputs": {v.name: model.inputs[v.derivative_input].name
                                for v in model.inputs if v.derivative_input is not None},
             "indicators_follow_time": bool(model.z.numel()) and bool(ca.depends_on(model.z, model.t)),
             "can_terminate": bool(model.terminate),
-            "autonomous": time_invariant(model)}
+            "autonomous": time_invariant(model),
+            # what a plot labels its axes with, known without flattening once recorded
+            "units": {v.name: v.unit for v in (*model.states, *model.outputs, *model.inputs,
+                                               *model.parameters) if v.unit}}
 
 
 def recipes() -> RecipeStore:
@@ -280,13 +285,13 @@ def cached_fmu(key: str | None) -> BuiltFmu | None:
     return None
 
 
-_FACTS = ("chained_inputs", "indicators_follow_time", "can_terminate", "autonomous")
+_FACTS = ("chained_inputs", "indicators_follow_time", "can_terminate", "autonomous", "units")
 
 
 def _facts_whole(facts) -> bool:
     """Facts as model_facts writes them (a recipe file of the cache is input too)."""
     return (isinstance(facts, dict) and all(k in facts for k in _FACTS)
-            and isinstance(facts["chained_inputs"], dict))
+            and isinstance(facts["chained_inputs"], dict) and isinstance(facts["units"], dict))
 
 
 def _drop_if_damaged(path: Path) -> bool:
@@ -316,6 +321,7 @@ def _compile(identifier: str, c_source: str, xml: str, target: Path, fmi_version
         compile_library([sources / name for name in c_files], library,
                         [sources, FMI_HEADERS], identifier)
         if fmi_version == 3:
+            from .sources import build_description  # here: a compile needs it, a cached run not
             (sources / "buildDescription.xml").write_text(build_description(identifier, c_files))
         partial = target.with_suffix(f".{os.getpid()}.partial")
         with zipfile.ZipFile(partial, "w", zipfile.ZIP_DEFLATED) as zf:

@@ -10,9 +10,10 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 
-import casadi as ca
-
 from components.dae import FlatModel
+from components.lazy import lazy
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 FUNCTION_ORDER = ("ode", "out", "zc", "jump", "check", "jac")
 

@@ -13,11 +13,12 @@ import itertools
 import math
 from html import escape
 
-import casadi as ca
-
 from components.dae import FlatModel
+from components.lazy import lazy
 
 from .codegen import variable_table
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 #: longest equation printed in full; longer ones are cut with a note
 MAX_EQUATION_CHARS = 600

@@ -18,14 +18,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from xml.sax.saxutils import quoteattr
-
-import casadi as ca
 
 from components.dae import FlatModel
+from components.lazy import lazy
 
 from .codegen import ModelVariable, computed_outputs, variable_table
 from .units import DEFAULT_DISPLAY_UNIT, DISPLAY_UNITS, UNITS, unit_exponents
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 GENERATION_TOOL = "mechfmu 0.1"
 FMI_VERSIONS = (2, 3)
@@ -87,6 +87,7 @@ def model_structure(model: FlatModel, table: list[ModelVariable]) -> Structure:
 
 def xml_attributes(**kw) -> str:
     """name="value" pairs, quoted for XML; None leaves the attribute out."""
+    from xml.sax.saxutils import quoteattr  # here: it loads urllib (0.03 s), a cached run none
     return " ".join(f"{k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
 
 

@@ -26,6 +26,7 @@ component might read (none does).
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import json
 import os
 import re
@@ -135,7 +136,7 @@ def source_closure(modules: list[str]) -> tuple[list[Path], set[str]]:
         path = _module_file(name, roots)
         top = name.partition(".")[0]
         if path is None or not _is_project(path):
-            top_file = getattr(sys.modules.get(top), "__file__", None) or ""
+            top_file = _package_file(top)
             if top not in sys.stdlib_module_names and top != "__future__" and \
                     (top_file and not _is_project(os.path.abspath(top_file))):
                 external.add(top)
@@ -155,14 +156,54 @@ def source_closure(modules: list[str]) -> tuple[list[Path], set[str]]:
     return [Path(p) for p, _ in ordered], external
 
 
+def _package_file(top: str) -> str:
+    """The file of top-level package `top` ('' if there is none), found without importing
+    it: whether a program has loaded a package yet must not change a key (a cached run
+    loads neither CasADi nor scipy)."""
+    module = sys.modules.get(top)
+    if module is not None:
+        return getattr(module, "__file__", None) or ""
+    try:
+        spec = importlib.util.find_spec(top)
+    except (ImportError, ValueError):
+        return ""
+    return (spec.origin or "") if spec is not None and spec.has_location else ""
+
+
+_installed: dict = {}  # top-level package -> its version, as _package_version read it
+
+
+def _package_version(top: str) -> str:
+    """The version of the installed distribution of `top`, read from the name of its
+    metadata folder beside it (``casadi-3.8.2.dist-info``), never by importing it; where
+    there is none, the package file's size and time of change (a reinstall changes
+    them); ``-`` for a package that is not installed."""
+    if top in _installed:
+        return _installed[top]
+    version, path = "-", _package_file(top)
+    if path:
+        package = os.path.dirname(path)
+        folder = os.path.dirname(package) if os.path.basename(path) == "__init__.py" else package
+        wanted = top.lower().replace("-", "_") + "-"
+        try:
+            entries = os.listdir(folder)
+        except OSError:
+            entries = []
+        found = [e for e in entries if e.lower().startswith(wanted)
+                 and e.endswith((".dist-info", ".egg-info"))]
+        if found:
+            version = found[0][len(wanted):].rsplit(".", 1)[0].split("-")[0]
+        else:
+            stat = os.stat(path)
+            version = f"file {stat.st_size} {stat.st_mtime_ns}"
+    _installed[top] = version
+    return version
+
+
 def _versions(packages: set[str]) -> list[str]:
-    """`package==version` of each third-party package (``-`` where not loaded yet: the
-    same program then keys the same way before and after its build)."""
-    out = []
-    for top in sorted(packages):
-        module = sys.modules.get(top)
-        out.append(f"{top}=={getattr(module, '__version__', '-') if module else '-'}")
-    return out
+    """`package==version` of each third-party package (``-`` where not installed), the
+    same whether or not the program has imported it yet."""
+    return [f"{top}=={_package_version(top)}" for top in sorted(packages)]
 
 
 def _stable_repr(value) -> str:

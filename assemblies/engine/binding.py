@@ -14,7 +14,8 @@ import threading
 
 import numpy as np
 
-from ..masters.cosim import SimulationError
+from components.errors import SimulationError
+
 from ..value_types import STRING
 
 _P = C.POINTER

@@ -16,12 +16,12 @@ import time as wallclock
 import warnings
 from typing import Callable
 
-import casadi as ca
 import numpy as np
 
 from components.component import SOLVER_METHODS, Component
 from components.interfaces import ComponentError
 from components.dae import flatten
+from components.lazy import lazy
 from fmus.build import component_facts, recipes
 
 from ..assembly import Assembly, AssemblyError
@@ -29,12 +29,15 @@ from ..experiment import check_experiment, output_times
 from ..foreign import check_mode
 from ..inputs import with_inputs
 from ..limits import check_output_values
+from ..masters.loops import coupling_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
 from .liveness import continuous_couplings, row_couplings
 from .prepare import (assembly_recipe, class_defaults, member_termination, prepared,
                       prepared_composite, record_columns, rest_groups, structure_key)
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
@@ -239,7 +242,6 @@ def step_limit_needed(assembly: Assembly) -> bool:
     so the joined model answers for them: its indicators move alone when they are written
     in terms of time (a driver's motion, a shaking). An FMU we did not generate, or members
     that cannot be joined, cannot tell: capped."""
-    from ..masters.monolithic import composite
     components = list(assembly.components.values())
     if not all(isinstance(c, Component) for c in components):
         return True
@@ -249,6 +251,7 @@ def step_limit_needed(assembly: Assembly) -> bool:
     known = recipes().get(key).get("indicators_follow_time")
     if known is not None:
         return known
+    from ..masters.monolithic import composite  # here: it loads scipy's integrators
     try:
         flat = flatten(composite(assembly))
     except (AssemblyError, ComponentError):  # not joinable; bad values are the FMUs' to name
@@ -332,9 +335,6 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         # every value set before initialisation (a foreign FMU's Strings too)
         keys = [(n, fmus[n], [*c.fmu_starts()]) for n, c in assembly.components.items()]
-        # imported here: the module loads scipy's integrators (0.3 s), which a run that a
-        # bad setting ends before any build must not wait for
-        from ..masters.me import coupling_order
         ordered = coupling_order(couplings, fmus)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))

@@ -43,7 +43,7 @@ from fmpy.logging import addLoggerProxy
 
 import numpy as np
 
-from components.errors import MechfmuError
+from components.errors import SimulationError
 from fmus import build_fmu
 
 from ..assembly import Assembly, AssemblyError
@@ -64,10 +64,6 @@ from .loops import LoopError, coupling_groups, is_loop, solve_loop
 def _scaled(gain: float, value):
     """gain * value for a number (gain is 1 but for flows); a String passes as it is."""
     return value if isinstance(value, str) else gain * value
-
-
-class SimulationError(MechfmuError, RuntimeError):
-    """An FMU refused a call; the message carries what the FMU logged."""
 
 
 # FMI 2 logging. fmpy's native proxy (it formats the variadic message, which ctypes

@@ -20,6 +20,8 @@ import numpy as np
 
 from components.errors import MechfmuError
 
+from ..assembly import AssemblyError
+
 
 class LoopError(MechfmuError, RuntimeError):
     """A loop did not converge; the message names the FMUs and the couplings."""
@@ -133,3 +135,43 @@ def solve_loop(group, couplings, get_input, set_input, get_output, partial, *,
 
 
 __all__ = ["LoopError", "coupling_groups", "describe", "is_loop", "solve_loop"]
+
+
+def coupling_order(couplings, instances) -> list:
+    """The couplings sorted so that each is evaluated after every coupling its source needs.
+
+    Coupling c2 needs c1 when c1 sets an input of c2's source instance that c2's source
+    output depends on (direct feedthrough). A cycle is an algebraic loop. The order is by
+    dependency level (outputs that need no coupled input first), and within a level by
+    source instance: a master can then read a whole level before setting any of it, and
+    each FMU computes its outputs once per level rather than once per read.
+    """
+    needs = {i: [j for j, c1 in enumerate(couplings)
+                 if c1.target[0] == c2.source[0]
+                 and c1.target[1] in instances[c2.source[0]].depends.get(
+                     c2.source[1], set(instances[c2.source[0]].inputs))]
+             for i, c2 in enumerate(couplings)}
+    level, active = {}, []
+
+    def visit(i):
+        if i in level:
+            return
+        if i in active:
+            loop = active[active.index(i):] + [i]
+            path = " -> ".join(f"{'.'.join(couplings[j].source)}" for j in loop)
+            raise AssemblyError(f"algebraic loop between direct-feedthrough outputs: {path}; "
+                                "the me and monolithic masters cannot solve loops yet")
+        active.append(i)
+        for j in needs[i]:
+            visit(j)
+        active.pop()
+        level[i] = 1 + max((level[j] for j in needs[i]), default=-1)
+
+    for i in range(len(couplings)):
+        visit(i)
+    first_seen = {}
+    for c in couplings:
+        first_seen.setdefault(c.source[0], len(first_seen))
+    order = sorted(range(len(couplings)),
+                   key=lambda i: (level[i], first_seen[couplings[i].source[0]], i))
+    return [couplings[i] for i in order]

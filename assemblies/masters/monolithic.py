@@ -24,12 +24,12 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Callable
 
-import casadi as ca
 import numpy as np
 
 from components.component import Component
 from components.dae import flatten
 from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, Profile, State
+from components.lazy import lazy
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment, output_times
@@ -37,6 +37,8 @@ from ..inputs import with_inputs
 from ..foreign import check_mode
 from ..result import Result, Table
 from .hybrid import METHODS, IntegrationError, integrate
+
+ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 @dataclass

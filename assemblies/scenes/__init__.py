@@ -2,30 +2,54 @@
 
 The family modules import only :mod:`.scene` (what a scene is) and their own helpers,
 never this registry, so imports go one way: registry -> families -> scene.
+
+A family is imported when one of its scenes is asked for: :func:`scene` loads the one
+family that :mod:`assemblies.scene_names` files the scene under (a family's references
+load scipy, its plots matplotlib, a foreign controller pythonfmu; a run of another scene
+needs none of them). ``SCENES``, the whole registry, imports every family on first use
+(PEP 562); from then on :func:`scene` reads it, so a scene added to it is found.
 """
 from __future__ import annotations
 
-from ..assembly import AssemblyError
-from .axle import AXLE_SCENES
-from .beam import BEAM_SCENES
-from .bodies_seed import SEED_BODY_SCENES
-from .coin import COIN_SCENES
-from .friction import FRICTION_SCENES
-from .friction_seed import SEED_FRICTION_SCENES
-from .joined import JOINED_SCENES
-from .scene import Figure, Scene
-from .speed_control import SPEED_CONTROL_SCENES
-from .table import TABLE_SCENES
+import importlib
 
-SCENES: dict[str, Scene] = {**FRICTION_SCENES, **AXLE_SCENES, **COIN_SCENES, **BEAM_SCENES,
-                            **TABLE_SCENES, **JOINED_SCENES, **SPEED_CONTROL_SCENES,
-                            **SEED_FRICTION_SCENES, **SEED_BODY_SCENES}
+from ..assembly import AssemblyError
+from ..scene_names import SCENE_INDEX
+from .scene import Figure, Scene
+
+# family module -> the dict of scenes it defines, in the registry's order
+FAMILIES = {"friction": "FRICTION_SCENES", "axle": "AXLE_SCENES", "coin": "COIN_SCENES",
+            "beam": "BEAM_SCENES", "table": "TABLE_SCENES", "joined": "JOINED_SCENES",
+            "speed_control": "SPEED_CONTROL_SCENES", "friction_seed": "SEED_FRICTION_SCENES",
+            "bodies_seed": "SEED_BODY_SCENES"}
+
+
+def family(module: str) -> dict[str, Scene]:
+    """The scenes family `module` defines (imported now if it was not)."""
+    return getattr(importlib.import_module(f".{module}", __name__), FAMILIES[module])
+
+
+def _registry() -> dict[str, Scene]:
+    return {name: sc for module in FAMILIES for name, sc in family(module).items()}
+
+
+def __getattr__(name: str):
+    if name != "SCENES":
+        raise AttributeError(f"module '{__name__}' has no attribute '{name}'")
+    registry = globals()["SCENES"] = _registry()  # once: later lookups do not come back
+    return registry
 
 
 def scene(name: str) -> Scene:
-    if name not in SCENES:
-        raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(SCENES)}")
-    return SCENES[name]
+    registry = globals().get("SCENES")
+    if registry is None:  # the one family, not the registry (a test holds the index to it)
+        found = family(SCENE_INDEX[name][0]).get(name) if name in SCENE_INDEX else None
+        if found is None:
+            raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(SCENE_INDEX)}")
+        return found
+    if name not in registry:
+        raise AssemblyError(f"unknown scene '{name}'; scenes: {', '.join(registry)}")
+    return registry[name]
 
 
-__all__ = ["Figure", "SCENES", "Scene", "scene"]
+__all__ = ["FAMILIES", "Figure", "SCENES", "Scene", "family", "scene"]

@@ -4,8 +4,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline
-from scipy.special import ellipk
 
 from components.axle import RigidBodyOnAxle
 
@@ -27,6 +25,8 @@ def zero_crossings(t: np.ndarray, x: np.ndarray, dx: np.ndarray) -> np.ndarray:
     With the exact derivative at every sample the interpolant errs by O(h^4), far below
     what a linear interpolation of the samples would give.
     """
+    # here: a figure's reference; scipy loads in 0.1-0.5 s
+    from scipy.interpolate import CubicHermiteSpline
     return CubicHermiteSpline(t, x, dx).roots(extrapolate=False)
 
 
@@ -42,6 +42,8 @@ def period_from_crossings(t: np.ndarray, x: np.ndarray, dx: np.ndarray) -> float
 def pendulum_period(omega0: float, amplitude: float) -> float:
     """Exact period of theta'' = -omega0^2 sin(theta): 4 K(k) / omega0, k = sin(amplitude/2)
     (scipy's ellipk takes the parameter k^2)."""
+    # here: a figure's reference; scipy loads in 0.1-0.5 s
+    from scipy.special import ellipk
     return 4 * ellipk(math.sin(amplitude / 2) ** 2) / omega0
 
 

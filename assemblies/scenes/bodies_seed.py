@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import quad
 
 from components.dissipation import NutationDamperBody
 from components.rigid_bodies import WobblingDisk
@@ -95,6 +94,8 @@ def shell_period(contact: str, amplitude: float, R: float, g: float) -> float:
         phi = 2 * math.asin(k * math.sin(u))
         return math.sqrt(2 * M(phi) * R / g) / math.sqrt(1 - (k * math.sin(u)) ** 2)
 
+    # here: a figure's reference; scipy loads in 0.1-0.5 s
+    from scipy.integrate import quad
     value, _ = quad(integrand, 0.0, math.pi / 2, epsabs=0.0, epsrel=1e-13)
     return 4 * value
 

@@ -11,7 +11,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from components.spring_block import SLIDING_AT
 
@@ -131,6 +130,7 @@ def smooth_law_peak(mu_k: float, mu_s: float) -> tuple[float, float]:
     u = np.linspace(0.0, 10.0, 100_001)
     i = int(np.argmax(smooth_friction_coefficient(u, mu_k, mu_s)))
     lo, hi = u[max(i - 1, 0)], u[min(i + 1, len(u) - 1)]
+    from scipy.optimize import minimize_scalar  # here: scipy loads in 0.2-0.6 s
     best = minimize_scalar(lambda s: -float(smooth_friction_coefficient(s, mu_k, mu_s)),
                            bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
     return float(best.x), float(-best.fun)

@@ -3,14 +3,17 @@ theirs (:mod:`components.listing`), so that README and the code cannot drift.
 
 ``mechfmu scenes --markdown`` prints the scene table; ``python -m assemblies.scenes.listing
 README.md`` rewrites both tables in place, each below its marker line; a test holds README
-to them.
+to them. ``python -m assemblies.scenes.listing --index`` rewrites
+:mod:`assemblies.scene_names`, the registry's names, families and descriptions that the
+command line reads without importing a scene (a test holds it to the registry too).
 """
 from __future__ import annotations
 
 import sys
+import textwrap
 from pathlib import Path
 
-from . import SCENES
+from . import FAMILIES, SCENES, family
 from .scene import Scene
 
 MARKER = "<!-- generated from the scene registry: python -m assemblies.scenes.listing README.md -->"
@@ -66,9 +69,42 @@ def rewrite(path: str | Path, tables: list[tuple[str, str]] | None = None) -> bo
     return new != text
 
 
+INDEX_PATH = Path(__file__).parent.parent / "scene_names.py"
+INDEX_HEAD = '''"""The registry's scenes, not imported: name -> (family module, description).
+
+Generated from the registry (:mod:`assemblies.scenes`) by
+``python -m assemblies.scenes.listing --index``; a test holds it to the registry, so the
+two cannot drift. The scenes import the components, their references scipy and their
+plots matplotlib: the command line checks and lists a scene, and
+:func:`assemblies.scenes.scene` finds the one family module to import, from this file alone.
+"""
+'''
+
+
+def index_source() -> str:
+    """The text of :mod:`assemblies.scene_names`, from the registry."""
+    lines = [INDEX_HEAD, "SCENE_INDEX = {"]
+    for module in FAMILIES:
+        for name, sc in family(module).items():
+            lines.append(f"    {name!r}: ({module!r},")
+            # wrapped at spaces into adjacent literals, each kept whole (spaces included)
+            parts = textwrap.wrap(sc.description, 80, drop_whitespace=False) or [""]
+            lines += [f"        {part!r}" for part in parts]
+            lines[-1] += "),"
+    lines += ["}", "SCENE_NAMES = tuple(SCENE_INDEX)", ""]
+    return "\n".join(lines)
+
+
 def main(argv: list[str]) -> int:
     if not argv:
         print(markdown_table())
+        return 0
+    if argv == ["--index"]:
+        text = index_source()
+        changed = INDEX_PATH.read_text() != text
+        if changed:
+            INDEX_PATH.write_text(text)
+        print(f"{INDEX_PATH}: {'rewritten' if changed else 'already current'}")
         return 0
     for name in argv:
         print(f"{name}: {'table rewritten' if rewrite(name) else 'table already current'}")

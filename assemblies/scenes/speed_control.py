@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline
 
 from components.force_sources import Force
 from components.sensors import SpeedSensor
@@ -76,6 +75,8 @@ def _speed_control_figures(result: Result, asm: Assembly) -> list[Figure]:
     # block's own forces: (f + f_friction) / m. Its error on an oscillation of amplitude
     # A and rate omega0 is at most h^4 omega0^4 A / 384 (h the output interval)
     dv = (f + result["block.f_friction"]) / loop["m"]
+    # here: a figure's reference; scipy loads in 0.1-0.5 s
+    from scipy.interpolate import CubicHermiteSpline
     spline = CubicHermiteSpline(t, v, dv)
     turns = spline.derivative().roots(extrapolate=False)
     turns = turns[turns > t[0]]

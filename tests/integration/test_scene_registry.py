@@ -24,6 +24,18 @@ def test_the_command_lines_scene_names_are_the_registrys():
     assert list(SCENE_NAMES) == list(SCENES)
 
 
+def test_the_scene_index_is_the_registrys():
+    """`mechfmu scenes` prints, and scene() imports the family module, from the index:
+    its names, families and descriptions are those of the registry, word for word."""
+    from assemblies.scene_names import SCENE_INDEX
+    from assemblies.scenes import FAMILIES, family
+    from assemblies.scenes.listing import INDEX_PATH, index_source
+    assert INDEX_PATH.read_text() == index_source(), \
+        "assemblies/scene_names.py is stale: python -m assemblies.scenes.listing --index"
+    assert {name: (module, sc.description) for module in FAMILIES
+            for name, sc in family(module).items()} == SCENE_INDEX
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_every_figure_states_a_finite_accuracy_and_passes(name):
     run = run_scene_full(name)

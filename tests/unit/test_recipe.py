@@ -4,6 +4,7 @@ FMU served from the cache would be a wrong result, so each ingredient is changed
 from __future__ import annotations
 
 import shutil
+import subprocess
 import sys
 import textwrap
 
@@ -61,9 +62,27 @@ def test_an_edited_code_generator_is_a_new_fmu(tmp_path, monkeypatch):
 
 
 def test_another_casadi_is_a_new_fmu(monkeypatch):
+    import fmus.recipe
     before = fmu_recipe(SpringBlock())
-    monkeypatch.setattr(casadi, "__version__", casadi.__version__ + ".post1")
+    # the version as read from the installed distribution's metadata, not from the module
+    monkeypatch.setitem(fmus.recipe._installed, "casadi", casadi.__version__ + ".post1")
     assert fmu_recipe(SpringBlock()) != before
+
+
+def test_the_key_does_not_depend_on_what_is_imported_yet():
+    """A cached run loads neither CasADi nor scipy; the build that filed its FMU did. The
+    same component must key the same in both, and the installed CasADi's version is in
+    the key either way (read from its metadata, not from the module)."""
+    script = ("import sys, fmus.recipe; from components import SpringBlock; from fmus.build import "
+              "fmu_recipe; key = fmu_recipe(SpringBlock()); "
+              "print('casadi' in sys.modules, key, [v for v in fmus.recipe._versions({'casadi'})])")
+    if_loaded = subprocess.run([sys.executable, "-c", "import casadi, scipy; " + script],
+                               capture_output=True, text=True, check=True).stdout.split(" ", 1)
+    lazily = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            check=True).stdout.split(" ", 1)
+    assert if_loaded[0] == "True" and lazily[0] == "False"
+    assert if_loaded[1] == lazily[1]
+    assert f"casadi=={casadi.__version__}" in lazily[1]
 
 
 @pytest.fixture
