@@ -22,6 +22,7 @@ FRAME = Mode("frame", 0, "1 once the modal amplitudes refer to the frame anchore
 
 class _ModesOption(Option):
     """n_modes: an integer N, or 'auto' (N = MAX_MODES, modes kept by `accuracy`)."""
+    words = (AUTO,)  # the values besides the integers, for whoever lists them all
 
     def parse(self, value):
         return AUTO if value == AUTO else super().parse(value)

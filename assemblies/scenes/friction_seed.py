@@ -15,6 +15,7 @@ fail under it.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
@@ -107,7 +108,8 @@ def _fit_slope(t, y) -> tuple[float, float]:
 
 
 def _nth(items, n, width=2):
-    return items[n] if n < len(items) else (math.nan,) * width
+    """items[n], or NaNs where there is no n-th (n = -1: there was none to count to)."""
+    return items[n] if 0 <= n < len(items) else (math.nan,) * width
 
 
 # --- 9.5 resonance ---------------------------------------------------------------------
@@ -200,7 +202,8 @@ def _resonance_growth_figures(result: Result, asm: Assembly) -> list[Figure]:
     # the law by what is left of it; the run may add the solver's error at each point
     share = spread * p["acc"](max((abs(ph.x) for ph in window), default=1.0))
     turns = slide_ends(phases)
-    last_run, last = _nth(turning_points(result, "block"), len(turns) - 1), turns[-1]
+    last_run = _nth(turning_points(result, "block"), len(turns) - 1)
+    last = turns[-1] if turns else SimpleNamespace(t=math.nan, x=math.nan)  # a short run
     return figures + [
         Figure("rate", f"growth of |x| at turning points [m/s], fitted from the lock "
                f"(t >= {t_lock:.1f} s), vs (U pi - 4 mu m g/k) w0/(2 pi); accuracy: the exact "
@@ -232,9 +235,10 @@ def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
     law = half_period_turning_points(q["m"], q["k"], q["g"], q["mu_k"], q["U"], q["x0"],
                                      float(t[-1]))[1:]
     run = turning_points(result, "locked")
-    slope, spread = (_fit_slope(*zip(*[(tt, abs(x)) for tt, x in run[:len(law)]]))
+    slope, spread = (_fit_slope([tt for tt, _ in run[:len(law)]],
+                                [abs(x) for _, x in run[:len(law)]])
                      if len(run) >= len(law) else (math.nan, math.nan))
-    t_end, x_end = law[-1]
+    t_end, x_end = law[-1] if law else (math.nan, math.nan)  # a run too short for one
     t_run, x_run = _nth(run, len(law) - 1)
     return figures + [
         Figure("rate_locked", f"locked: change of |x| over its {len(law)} turning points "

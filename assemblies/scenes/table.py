@@ -82,7 +82,9 @@ def _moving_table_figures(result: Result, asm: Assembly) -> list[Figure]:
                    rate, 2 * mu * g / (math.pi * p["omega"] * p["U"]), eps + 0.25**2 / 6,
                    relative=True),
             # the seed's averaged law before linearising: V' = -(2 mu g / pi) arcsin(V / (U omega))
-            Figure("V_first", "mean absolute velocity over the first cycle [m/s]", vc[0],
+            # a run shorter than a cycle has no cycle mean: NaN, the figure fails
+            Figure("V_first", "mean absolute velocity over the first cycle [m/s]",
+                   vc[0] if len(vc) else math.nan,
                    _averaged_law_first_cycle(1.5, mu * g, p["U"] * p["omega"], period),
                    2 * math.pi * eps**2 * p["U"] * p["omega"])]
 
