@@ -131,7 +131,11 @@ def _free_vibration_figures(result: Result, asm: Assembly) -> list[Figure]:
 # --- beam_tip_force: seed 7.5 ------------------------------------------------------
 def _tip_force() -> Assembly:
     asm = Assembly("beam_tip_force")
-    asm.add("beam", AssumedModesBeam(basis="sine", n_modes=4, zeta=0.5))
+    # the assumed coordinates, not the modal default (the same model): with zeta = 0.5 the
+    # beam settles, and its states come to rest, while modal amplitudes keep turning at
+    # omega_i and the solver follows them (cosim, measured: N = 4 0.010 s against 0.038 s,
+    # N = 16 0.10 s against 0.80 s; N = 64 modal over 5 min)
+    asm.add("beam", AssumedModesBeam(basis="sine", n_modes=4, zeta=0.5, coordinates="assumed"))
     asm.add("load", ConstantForce(F=0.1))
     asm.connect("load.flange", "beam.tip")
     return asm

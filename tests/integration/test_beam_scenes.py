@@ -102,24 +102,23 @@ def test_sixty_four_modes_run_in_the_default_coordinates_within_two_seconds():
 
 def test_tip_force_scene_settles_at_the_static_deflection():
     errors = {}
-    # poly2 in the assumed coordinates, whose states come to rest: the settled deflection
-    # is then the cubic's to round-off; a modal beam's amplitudes keep turning at rest, so
-    # its settled value carries the solver's error (within w_static's accuracy)
-    for params in ({"beam.basis": "poly2", "beam.coordinates": "assumed"}, {"beam.basis": "poly2"},
+    # the scene's assumed coordinates come to rest: poly2's settled deflection is then the
+    # cubic's to round-off; a modal beam's amplitudes keep turning at rest, so its settled
+    # value carries the solver's error (within w_static's accuracy)
+    for params in ({"beam.basis": "poly2"}, {"beam.basis": "poly2", "beam.coordinates": "modal"},
                    {"beam.n_modes": 4}, {"beam.n_modes": 8},
-                   {"beam.n_modes": 4, "beam.coordinates": "assumed"}):
+                   {"beam.n_modes": 4, "beam.coordinates": "modal"}):
         _, figures = _run("beam_tip_force", **params)
         assert figures["w_static"].error < 1e-9 * figures["w_static"].reference
         assert all(f.passed for f in figures.values()), figures
         errors[tuple(params.values())] = figures["w_EB"].error / figures["w_EB"].reference
-    assert errors[("poly2", "assumed")] < 1e-12  # the exact static shape is a cubic
+    assert errors[("poly2",)] < 1e-12  # the exact static shape is a cubic
     assert 0 < errors[(8,)] < errors[(4,)] < 0.02
-    assert errors[(4, "assumed")] == pytest.approx(errors[(4,)], rel=1e-6)
+    assert errors[(4, "modal")] == pytest.approx(errors[(4,)], rel=1e-6)
 
 
 def test_tip_spring_acts_in_parallel():
-    res, figures = _run("beam_tip_force", **{"beam.basis": "poly2", "beam.k_tip": 7.0,
-                                             "beam.coordinates": "assumed"})
+    res, figures = _run("beam_tip_force", **{"beam.basis": "poly2", "beam.k_tip": 7.0})
     assert figures["w_EB"].reference == pytest.approx(0.1 / (3 + 7.0))
     assert figures["w_EB"].error < 1e-12
     assert res["load.flange.f"][-1] == -0.1
