@@ -140,6 +140,12 @@ class AssumedModesBeam(Component):
     )
     # those of the default options (what `mechfmu show` lists); instances redeclare them
     states, modes = _modal_states(shape_basis("sine", 4).size), (FRAME,)
+    start_aliases = (
+        ("w_tip0", "[m] start at rest in the static shape under a tip load, tip deflected "
+                   "by w_tip0"),
+        ("a0 .. aN, a0_dot .. aN_dot (poly2: a1, a2, ...)",
+         "[m, m/s] the assumed-modes coordinates and rates; the states with "
+         "coordinates=assumed, converted into the modal amplitudes with modal"))
     ports = (Port("tip", TRANSLATIONAL, "free end of the beam, moving transversally"),)
     profiles = (Profile("free_tip", "tip force in; tip displacement, velocity and acceleration out",
                         {"tip": FORCE_IN}),)

@@ -158,3 +158,15 @@ def test_assumed_motion_gives_the_seeds_coordinates_from_either_coordinates():
     a, a_dot = beam.assumed_motion(lambda n: [beam.starts.get(n, 0.0)], [0.7])
     np.testing.assert_allclose(a[:, 0], [starts[f"a{i}"] for i in range(4)], rtol=1e-12)
     np.testing.assert_allclose(a_dot[:, 0], [starts[f"a{i}_dot"] for i in range(4)], rtol=1e-12)
+
+
+def test_what_show_lists_is_what_a_default_beam_has():
+    """`mechfmu show` reads the class: its states and modes are a default instance's
+    (COMPONENTS[name]() built a modal beam with the assumed states once), and it names
+    the start values the beam converts (w_tip0, the a_i)."""
+    from components.listing import sheet
+    beam = AssumedModesBeam()
+    assert [s.name for s in AssumedModesBeam.states] == [s.name for s in beam.states]
+    assert [m.name for m in AssumedModesBeam.modes] == [m.name for m in beam.modes]
+    text = sheet(AssumedModesBeam)
+    assert "w_tip0" in text and "a0_dot" in text
