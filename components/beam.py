@@ -22,6 +22,7 @@ FRAME = Mode("frame", 0, "1 once the modal amplitudes refer to the frame anchore
 
 class _ModesOption(Option):
     """n_modes: an integer N, or 'auto' (N = MAX_MODES, modes kept by `accuracy`)."""
+    words = (AUTO,)  # the values besides the integers, for whoever lists them all
 
     def parse(self, value):
         return AUTO if value == AUTO else super().parse(value)
@@ -74,8 +75,25 @@ class AssumedModesBeam(Component):
     The three damping terms add; each defaults to 0. All are FMU parameters.
     Options: ``basis`` — ``poly2`` (seed: x²/L², x³/L³; coordinates a1, a2) or ``sine``
     (seed Eq. 7.8: x²/L² and (x/L) sin(kπx/L), k = 1..N; coordinates a0..aN); ``n_modes``
-    = N of Eq. 7.8 (N + 1 coordinates; ignored by poly2).
-    States: the coordinates ``a_i`` [m] and their rates ``a_i_dot`` [m/s]; all outputs.
+    = N of Eq. 7.8 (N + 1 coordinates; ignored by poly2), or ``auto`` (modal only: the
+    modes of N = 128 that ``accuracy`` needs); ``coordinates`` — ``modal`` (default) or
+    ``assumed``, which the solver integrates.
+    States, ``coordinates='assumed'``: the coordinates ``a_i`` [m] and their rates
+    ``a_i_dot`` [m/s]. ``coordinates='modal'``: a = Φ η, with Φ the Ritz modes of the bare
+    cantilever (the eigenvectors of the same M̂, K̂), and each η_i = c_i cos ω_i t +
+    s_i sin ω_i t; the states are ``mode{i}_c``, ``mode{i}_s`` [m] and the mode ``frame``.
+    With an integer n_modes every mode is kept, so a = Φ η is a change of basis and both
+    coordinates are the same model: tip spring, Rayleigh and modal damping and the tip
+    force included (the tip spring and beta's share of it act on Σ η, the tip). The modal
+    form is the default because a free, undamped beam's states are then constant and its
+    cost does not grow with the highest frequency ω_N (N = 64: ω_N ≈ 4e4 rad/s; the
+    assumed coordinates have the solver step through it). The other way round where the
+    beam settles (heavy damping, a constant load): its assumed coordinates come to rest
+    while the modal amplitudes keep turning at ω_i, and the solver follows them
+    (beam_tip_force, zeta = 0.5, N = 16: 0.8 s modal, 0.1 s assumed), so a scene of a
+    settling beam names coordinates='assumed'. A modal beam still takes the
+    ``a_i``, ``a_i_dot`` as start values (converted), and :meth:`assumed_motion` gives
+    a(t) from a result in either coordinates.
     Start value alias: ``w_tip0`` [m] starts the beam at rest in its static shape under a
     tip load that deflects the tip by w_tip0 (recomputed whenever the component is
     validated, so it follows later changes of basis, n_modes or parameters).
@@ -103,9 +121,10 @@ class AssumedModesBeam(Component):
     options = (Option("basis", "sine", BASES, "assumed modes: the seed's two powers or Eq. 7.8"),
                _ModesOption("n_modes", 4, range(1, MAX_MODES + 1),
                             "N of Eq. 7.8, the number of sine terms (N + 1 coordinates)"),
-               Option("coordinates", "assumed", COORDINATES,
-                      "integrate the assumed-modes coordinates a_i, or the bare cantilever's "
-                      "modes, each propagated exactly while unforced"),
+               Option("coordinates", "modal", COORDINATES,
+                      "integrate the bare cantilever's modes, each propagated exactly while "
+                      "unforced (the default: the same physics, a change of basis), or the "
+                      "assumed-modes coordinates a_i"),
                _AccuracyOption("accuracy", 1e-6, (),
                                "with n_modes='auto': largest share of the static tip deflection "
                                "left to the modes not kept"))
@@ -119,7 +138,14 @@ class AssumedModesBeam(Component):
         Parameter("zeta", 0.0, "1", "modal damping ratio of the bare cantilever's modes",
                   min=0.0),
     )
-    states = _assumed_states(basis_names("sine", 4))  # default options; instances redeclare
+    # those of the default options (what `mechfmu show` lists); instances redeclare them
+    states, modes = _modal_states(len(basis_names("sine", 4))), (FRAME,)
+    start_aliases = (
+        ("w_tip0", "[m] start at rest in the static shape under a tip load, tip deflected "
+                   "by w_tip0"),
+        ("a0 .. aN, a0_dot .. aN_dot (poly2: a1, a2, ...)",
+         "[m, m/s] the assumed-modes coordinates and rates; the states with "
+         "coordinates=assumed, converted into the modal amplitudes with modal"))
     ports = (Port("tip", TRANSLATIONAL, "free end of the beam, moving transversally"),)
     profiles = (Profile("free_tip", "tip force in; tip displacement, velocity and acceleration out",
                         {"tip": FORCE_IN}),)
@@ -158,6 +184,29 @@ class AssumedModesBeam(Component):
             return len(flexibility)
         tail = np.cumsum(flexibility[::-1])[::-1] / flexibility.sum()  # tail[k]: modes k, k+1, ...
         return int(np.argmax(np.append(tail, 0.0) <= self.option("accuracy")))
+
+    def assumed_motion(self, column, time) -> tuple[np.ndarray, np.ndarray]:
+        """(a, a') over time, one row per coordinate of basis(), whichever coordinates the
+        beam integrates. `column(name)` returns the recorded values of this instance's
+        state or mode `name`; `time` the result's time column.
+
+        Modal: a = Φ η, η_i = c_i cos ω_i t + s_i sin ω_i t and η_i' = ω_i (s_i cos ω_i t
+        - c_i sin ω_i t) once the amplitudes refer to t = 0 (frame = 1); before that (a
+        row at the start time, frame = 0) η = c, η' = ω s. The rate holds under any tip
+        force: variation of constants keeps c' cos + s' sin = 0.
+        """
+        names = self.basis().names
+        if not self._modal():
+            return (np.array([column(n) for n in names], dtype=float),
+                    np.array([column(f"{n}_dot") for n in names], dtype=float))
+        kept, omega = self.kept_modes(), self.modal_frequencies()[:, None]
+        c = np.array([column(f"mode{i}_c") for i in range(1, kept + 1)], dtype=float)
+        s = np.array([column(f"mode{i}_s") for i in range(1, kept + 1)], dtype=float)
+        anchored = np.asarray(column("frame")) != 0
+        phase = omega * np.asarray(time, dtype=float)[None, :]
+        cos, sin = np.where(anchored, np.cos(phase), 1.0), np.where(anchored, np.sin(phase), 0.0)
+        shapes = self.modal().shapes[:, :kept]
+        return shapes @ (c * cos + s * sin), shapes @ (omega * (s * cos - c * sin))
 
     def _assumed_names(self) -> list[str]:
         names = self.basis().names

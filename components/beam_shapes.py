@@ -143,6 +143,7 @@ class ModalBasis:
     gain: np.ndarray        # ψ_i²
     tip_slope: np.ndarray   # φ'(1)·Φ_i: w_x(L) = tip_slope · η / L
     to_modal: np.ndarray    # Φ⁻¹: η = to_modal @ a
+    shapes: np.ndarray      # Φ: a = shapes @ η
 
     @property
     def size(self) -> int:
@@ -169,7 +170,7 @@ def modal_basis(kind: str, n_modes: int) -> ModalBasis:
         raise ValueError(f"a Ritz mode of the {kind} basis (N = {n_modes}) leaves the tip at rest")
     shapes = modes / tip
     arrays = (eigenvalues, tip**2, basis.tip_slope @ shapes,
-              (modes.T @ basis.mass) * tip[:, None])
+              (modes.T @ basis.mass) * tip[:, None], shapes)
     for array in arrays:
         array.setflags(write=False)
     return ModalBasis(*arrays)

@@ -48,6 +48,9 @@ def sheet(cls: type[Block]) -> str:
             alias = f" (also {s.start_name})" if s.start_name else ""
             lines.append(f"  {s.name:<{width}}  {s.start:>10g} {s.unit or '1':<8} "
                          f"{s.description}{alias}")
+    # start values a component converts into its states' (the beam's w_tip0)
+    for name, description in getattr(cls, "start_aliases", ()):
+        lines.append(f"  {name}: {description}")
     if cls.ports:
         lines.append("ports:")
         for port in cls.ports:

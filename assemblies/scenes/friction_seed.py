@@ -15,6 +15,7 @@ fail under it.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline

@@ -149,7 +149,9 @@ def _axle_motor_figures(result: Result, asm: Assembly) -> list[Figure]:
     t = result["time"]
     E_body = result["body.E"]
     # dissipated in the bearing and the shaft's damper, by the trapezoid rule on the samples
-    power_lost = -result["body.tau_bearing"] * result["body.omega"] + result["shaft.P_loss"]
+    # (body.bearing_friction = none: no bearing torque, no column)
+    bearing = result["body.tau_bearing"] if "body.tau_bearing" in result else 0.0
+    power_lost = -bearing * result["body.omega"] + result["shaft.P_loss"]
     losses = np.trapezoid(power_lost, t)
     stored = (E_body[-1] - E_body[0]) + result["motor.E"][-1] + result["shaft.E"][-1]
     W = float(result["motor.W"][-1])
@@ -174,6 +176,8 @@ def _twist_accuracy(result: Result, asm: Assembly) -> float:
     """
     motor, shaft = asm.component("motor").values, asm.component("shaft").values
     events, t = _events(result, "body"), result["time"]
+    if "body.mode" not in result:  # no bearing friction: nothing holds the disk
+        return math.nan
     if result["body.mode"][-1] != 0 or not events or events[-1][1] != 0:
         return math.nan
     slope = motor["tau_stall"] / motor["w_free"] if motor["w_free"] > 0 else 0.0
@@ -208,12 +212,18 @@ def _trapezoid_accuracy(t: np.ndarray, f: np.ndarray) -> float:
 # 0.0125 s; the issue's prototype (0.2 kg, k = 10) was unstable at h >= 0.025 s.
 # The pad starts at x = 0, the beam's rest position: the tip, pulled to 0.1 m and let
 # go, slips the pad at once and the pad ends stuck at 8.7 s.
+# The beam integrates its assumed coordinates, not the modal default (the same physics):
+# the adaptive co-simulation judges a step by the change of the FMUs' states, and modal
+# amplitudes carry the tip velocity divided by ω, so the controller sees less of the
+# coupling error and takes 4x fewer steps; E_lost then misses its 1e-8 (7.3e-8 measured,
+# against 2.9e-9 in the assumed coordinates). One solver (me, monolithic) passes in both.
 DAMPER_W0 = 0.1
 
 
 def _beam_friction_damper() -> Assembly:
     asm = Assembly("beam_friction_damper")
-    asm.add("beam", AssumedModesBeam(basis="poly2", EI=1.0, L=1.0, m=1.0, w_tip0=DAMPER_W0))
+    asm.add("beam", AssumedModesBeam(basis="poly2", coordinates="assumed", EI=1.0, L=1.0, m=1.0,
+                                     w_tip0=DAMPER_W0))
     pad_mass, preload = 0.05, 0.05
     asm.add("pad", SpringBlock(m=pad_mass, k=1.0, g=preload / pad_mass, mu_k=0.3, mu_s=0.4))
     asm.connect("beam.tip", "pad.flange_a")
@@ -257,14 +267,15 @@ def _pad_energy(result: Result, pad: dict, i: int) -> float:
 
 def _beam_friction_damper_figures(result: Result, asm: Assembly) -> list[Figure]:
     pad = asm.component("pad").values
-    assert pad["d"] == 0.0, "the energy figure counts no dashpot losses"
     E = result["beam.E"]
     work = pad["mu_k"] * pad["m"] * pad["g"] * damper_sliding_distance(result)
     held = _pad_energy(result, pad, -1) - _pad_energy(result, pad, 0)
     # every term exact (the distance from the located events): the solver's error is left
+    # a pad dashpot (d > 0) dissipates what no event records: no reference then (NaN fails)
+    reference = work + held if pad["d"] == 0.0 else math.nan
     figures = [Figure("E_lost", "beam energy lost [J] vs mu_k N x sliding distance (from the "
-                      "pad's events) + change of pad and contact-spring energy",
-                      float(E[0] - E[-1]), work + held, solver_accuracy(result, work + held))]
+                      "pad's events) + change of pad and contact-spring energy (pad d = 0)",
+                      float(E[0] - E[-1]), reference, solver_accuracy(result, work + held))]
     # the final stuck state: after the last event the pad holds still and the contact
     # spring is a tip spring to ground at the pad's position
     events = _events_x(result, "pad")
@@ -331,9 +342,9 @@ JOINED_SCENES: dict[str, Scene] = {
         "axle_motor", "seed 8.5's disk with Coulomb bearing friction, lifted by a DC motor "
         "through a torsional spring until it stalls",
         _axle_motor, stop_time=20.0, step=0.01, tolerance=1e-10,
-        record=["body.theta", "body.omega", "body.mode", "body.E", "body.tau_bearing",
-                "motor.phi", "motor.w", "motor.W", "motor.E", "shaft.phi_rel", "shaft.E",
-                "shaft.P_loss"],
+        # every output: body.mode and body.tau_bearing exist only with bearing friction,
+        # and --param body.bearing_friction=none must still run
+        record=None,
         figures=_axle_motor_figures, plot=["body.theta", "motor.phi", "shaft.phi_rel"], seed="8.5",
         reference="motor work = stored energy + losses"),
     "beam_friction_damper": Scene(

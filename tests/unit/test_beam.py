@@ -119,7 +119,7 @@ def test_static_tip_deflection():
 
 
 def _flat_poly2(**values):
-    model = flatten(AssumedModesBeam(basis="poly2", **values))
+    model = flatten(AssumedModesBeam(basis="poly2", coordinates="assumed", **values))
     f = model.functions()
     _, q, _, p = model.start_vectors()
 
@@ -158,7 +158,8 @@ def test_modal_damping_gives_every_mode_its_ratio():
 
 
 def test_options_redeclare_the_coordinates_and_keep_starts():
-    beam = AssumedModesBeam(a1=0.2, n_modes=2)  # option given last still applies first
+    # options given last still apply first
+    beam = AssumedModesBeam(a1=0.2, n_modes=2, coordinates="assumed")
     assert [s.name for s in beam.states] == ["a0", "a1", "a2", "a0_dot", "a1_dot", "a2_dot"]
     assert beam.starts["a1"] == 0.2
     beam.set("n_modes", 5)
@@ -169,7 +170,7 @@ def test_options_redeclare_the_coordinates_and_keep_starts():
 
 
 def test_release_from_static_shape_follows_later_changes():
-    beam = AssumedModesBeam(w_tip0=0.05, EI=3.0)
+    beam = AssumedModesBeam(w_tip0=0.05, EI=3.0, coordinates="assumed")
     for change in ({}, {"n_modes": 9}, {"k_tip": 20.0}, {"basis": "poly2"}):
         for key, value in change.items():
             beam.set(key, value)
@@ -189,7 +190,7 @@ def test_release_from_static_shape_follows_later_changes():
     ({"n_modes": 2.5}, ["n_modes", "from 1 to 128"]), ({"basis": "chebyshev"}, ["poly2, sine"]),
     ({"w_tip0": "far"}, ["w_tip0", "not a number"]), ({"a7": 1.0}, ["unknown name 'a7'", "w_tip0"]),
     # the modal formulation's own settings
-    ({"n_modes": "auto"}, ["n_modes = 'auto'", "coordinates = 'modal'"]),
+    ({"n_modes": "auto", "coordinates": "assumed"}, ["n_modes = 'auto'", "coordinates = 'modal'"]),
     ({"coordinates": "modal", "accuracy": 2.0}, ["accuracy", "between 0 and 1"]),
     ({"coordinates": "eigen"}, ["coordinates", "assumed, modal"]),
     ({"n_modes": 129}, ["n_modes", "from 1 to 128 or 'auto'"]),
@@ -210,9 +211,11 @@ def test_constant_force_pushes_what_it_is_connected_to():
     assert [v.name for v in model.outputs] == ["flange.f"] and list(y) == [-2.5]
 
 
-@pytest.mark.parametrize("component", [AssumedModesBeam(basis="poly2"),
+@pytest.mark.parametrize("component", [AssumedModesBeam(basis="poly2", coordinates="assumed"),
+                                       AssumedModesBeam(basis="poly2"),
                                        AssumedModesBeam(basis="sine", n_modes=1),
                                        AssumedModesBeam(basis="sine", n_modes=4, zeta=0.1),
-                                       ConstantForce()], ids=["poly2", "sine1", "sine4", "force"])
+                                       ConstantForce()],
+                         ids=["poly2_assumed", "poly2", "sine1", "sine4", "force"])
 def test_fmus_validate_cleanly(component, tmp_path):
     assert validate_fmu(str(build_fmu(component, tmp_path / "model.fmu"))) == []

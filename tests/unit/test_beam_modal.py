@@ -113,3 +113,60 @@ def test_release_from_static_shape_starts_at_rest_with_the_tip_deflection():
     # at rest in the static shape under F = 3 EI w0 / L³ (K a = φ F): strain energy w0 F / 2
     force = 0.05 / beam.static_tip_deflection(1.0)
     assert out["E"] == pytest.approx(0.05 * force / 2, rel=1e-12)
+
+
+def test_modal_coordinates_are_the_default():
+    """Every integer n_modes keeps every mode: the default is the exact change of basis."""
+    beam = AssumedModesBeam(n_modes=5)
+    assert beam.option("coordinates") == "modal" and beam.kept_modes() == 6
+    assert [s.name for s in beam.states][:2] == ["mode1_c", "mode2_c"]
+
+
+def _columns(beam, force, times):
+    """Every state and mode of the flattened (SX) equations over `times`, by name, with
+    the start event applied as the FMU applies it (scipy, constant tip force)."""
+    model = flatten(beam)
+    f = model.functions()
+    x0, q0, _, p = model.start_vectors()
+    if model.q.numel():
+        x0 = np.array(f["jump"](0.0, x0, q0, [force], p)[0]).ravel()
+        q0 = np.ones_like(q0)
+    sol = solve_ivp(lambda t, x: np.array(f["ode"](t, x, q0, [force], p)).ravel(),
+                    (0, times[-1]), x0, t_eval=times, rtol=1e-12, atol=1e-14, method="DOP853")
+    columns = dict(zip([s.name for s in model.states], sol.y))
+    columns.update({m.name: np.full(len(times), q) for m, q in zip(beam.modes, q0)})
+    return columns
+
+
+def test_assumed_motion_gives_the_seeds_coordinates_from_either_coordinates():
+    """a(t), a'(t) read off a modal run (AssumedModesBeam.assumed_motion, what the scenes'
+    figures use) against the assumed coordinates integrated directly: damped, tip spring,
+    pushed, started from arbitrary a, a'."""
+    times = np.linspace(0.0, 1.2, 25)
+    starts = dict(zip(["a0", "a1", "a2", "a3", "a0_dot", "a1_dot", "a2_dot", "a3_dot"],
+                      np.random.default_rng(3).normal(scale=0.01, size=8)))
+    motions = []
+    for coordinates in ("assumed", "modal"):
+        beam = AssumedModesBeam(n_modes=3, coordinates=coordinates, **EVERYTHING, **starts)
+        columns = _columns(beam, 0.4, times)
+        motions.append(beam.assumed_motion(columns.__getitem__, times))
+    assert np.abs(motions[0][0][:, 0] - [starts[f"a{i}"] for i in range(4)]).max() < 1e-15
+    for assumed, modal in zip(*motions):
+        np.testing.assert_allclose(modal, assumed, atol=1e-9 * np.abs(assumed).max(), rtol=0)
+    # a row at the start time before the start event (frame 0): the amplitudes are η, η'/ω
+    beam = AssumedModesBeam(n_modes=3, **EVERYTHING, **starts)
+    a, a_dot = beam.assumed_motion(lambda n: [beam.starts.get(n, 0.0)], [0.7])
+    np.testing.assert_allclose(a[:, 0], [starts[f"a{i}"] for i in range(4)], rtol=1e-12)
+    np.testing.assert_allclose(a_dot[:, 0], [starts[f"a{i}_dot"] for i in range(4)], rtol=1e-12)
+
+
+def test_what_show_lists_is_what_a_default_beam_has():
+    """`mechfmu show` reads the class: its states and modes are a default instance's
+    (COMPONENTS[name]() built a modal beam with the assumed states once), and it names
+    the start values the beam converts (w_tip0, the a_i)."""
+    from components.listing import sheet
+    beam = AssumedModesBeam()
+    assert [s.name for s in AssumedModesBeam.states] == [s.name for s in beam.states]
+    assert [m.name for m in AssumedModesBeam.modes] == [m.name for m in beam.modes]
+    text = sheet(AssumedModesBeam)
+    assert "w_tip0" in text and "a0_dot" in text
