@@ -112,6 +112,8 @@ def contact_circle_radius(theta: float, phi_dot: float, psi_dot: float, R: float
     """Steady rolling: G circles at radius |V / phi'| (V = -R (psi' + phi' cos theta), its
     speed), and C lies R cos(theta) further out along the same radius, opposite the centre
     offset a_G / phi'^2 = (V / phi') j at phi = 0."""
+    if phi_dot == 0.0:  # no turning: C runs along a straight line, a circle of no curvature
+        return math.inf
     V = -R * (psi_dot + phi_dot * math.cos(theta))
     return abs(V / phi_dot + R * math.cos(theta))
 

@@ -148,3 +148,13 @@ def test_joined_run_of_a_coin_that_can_fall_passes(name):
     assert run.passed, run.table()
     assert run.result.settings["scheme"] == "monolithic"
     assert run.result.settings["terminated"] is None  # the scenes' coins keep rolling
+
+
+def test_coin_circle_without_turning_runs_and_its_circle_figure_fails():
+    """phi' = 0: the contact point runs along a straight line (a circle of infinite
+    radius; the lean is then no steady motion). The run goes through and the circle figure
+    fails, where the steady-motion relation divided by phi' and ended in a traceback."""
+    from assemblies.run import run_scene_full
+    run = run_scene_full("coin_circle", stop_time=1.0, params={"coin.phi_dot": 0.0}, plot=False)
+    r_contact = next(f for f in run.figures if f.name == "r_contact")
+    assert r_contact.reference == math.inf and not r_contact.passed
