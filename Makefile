@@ -18,8 +18,9 @@ demo: $(VENV)/.installed
 
 # the API reference, generated from the docstrings (pdoc): docs/api/index.html
 # (pdoc comes with the test extra that .venv installs; elsewhere: pip install -e '.[docs]')
+DOCS_OUT ?= docs/api
 docs: $(VENV)/.installed
-	$(PY) docs/build_api.py docs/api
+	$(PY) docs/build_api.py $(DOCS_OUT)
 
 # the test suite, a file per worker on every core (pytest-xdist: FMU builds and runs are
 # CPU-bound); pytest's exit code 5 (nothing collected) is a failure, not green
