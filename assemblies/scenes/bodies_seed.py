@@ -88,6 +88,8 @@ def shell_period(contact: str, amplitude: float, R: float, g: float) -> float:
     """Exact period from energy: M(phi) phi'^2 / 2 + (m g R / 2)(1 - cos phi) is constant.
     With sin(phi/2) = k sin(u), k = sin(amplitude/2), the turning-point singularity goes:
     T = 4 int_0^{pi/2} sqrt(2 M(phi(u)) / (m g R)) / sqrt(1 - k^2 sin^2 u) du."""
+    if not math.isfinite(amplitude):  # not released from rest: no amplitude to integrate to
+        return math.nan
     k, M = math.sin(amplitude / 2), SHELL_MASS[contact]
 
     def integrand(u: float) -> float:
