@@ -264,8 +264,12 @@ def report(records, meta, calls, builds, plots, args, elapsed) -> str:
     out += ["", "## Build (one-time, excluded from the wall times)", "",
             "| FMU | cold (empty cache) | cached |", "| --- | --- | --- |"]
     out += [f"| {k} | {v['cold_s']:.2f} s | {v['cached_s']:.2f} s |" for k, v in builds.items()]
-    out += ["", "The cached build still flattens the model and generates its C code to hash "
-                "it; the masters here reuse one lookup per run (benchmarks.runners.builds_memoised).",
+    out += ["", "A cached component FMU is found from its recipe (its class, options and build "
+                "settings: fmus/recipe.py) without flattening or generating code; a composite "
+                "(monolithic) FMU has no recipe (its class is made per assembly), so its lookup "
+                "flattens the joined model and generates its C code to hash it (the cached "
+                "column); the masters here reuse one lookup per run "
+                "(benchmarks.runners.builds_memoised).",
             "", "## Peak memory", "",
             "Process peak RSS (ru_maxrss) after each scene, cumulative: " +
             ", ".join(f"{k} {v:.0f} MB" for k, v in meta["peak_rss_mb"].items()) + ".", ""]
