@@ -1396,6 +1396,15 @@ static int outputs_finite(mf_instance *I, const char *fn)
     return I->m->n_z == 0 || update_z(I, fn);
 }
 
+/* A model with no states and no event indicators is an explicit function of time,
+   inputs and parameters (a kinematic source such as s = U sin(omega t)): its step is
+   its time moving to the step's end, evaluated there, with no solver step to take and
+   nothing to locate. */
+static int explicit_in_time(const mf_instance *I)
+{
+    return I->m->n_x == 0 && I->m->n_z == 0;
+}
+
 mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time,
                      int *terminate, int *early_return)
 {
@@ -1478,7 +1487,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         }
     }
 
-    while (I->t < t_end) {
+    while (I->t < t_end && !explicit_in_time(I)) {
         double t_old = I->t, t_event;
         int found;
         mf_dopri_result r;
