@@ -99,6 +99,15 @@ def time_invariant(model: FlatModel) -> bool:
     return not ca.depends_on(ca.vertcat(model.xdot, computed_outputs(model)), model.t)
 
 
+def constant_derivatives(model: FlatModel) -> bool:
+    """Every state derivative is a constant of the parameters (ConstantSpeed's
+    travel' = v) and no event indicator can fire: a step adds h xdot exactly, so the
+    runtime takes it without its solver."""
+    moving = ca.vertcat(model.t, model.x, model.q, model.u)
+    return (model.x.numel() > 0 and model.z.numel() == 0
+            and not ca.depends_on(model.xdot, moving))
+
+
 def directional_jacobian(model: FlatModel) -> ca.Function:
     """``mf_dd``: the Jacobian of [xdot; computed outputs] w.r.t. [x; u], its structural
     nonzeros only (the runtime scatters them by ``mf_dd_sparsity_out`` into a dense
@@ -165,7 +174,8 @@ const mf_model MF_MODEL = {{
     {len(model.terminate)}, terminate_q, terminate_message,
     {{mf_dd, mf_dd_work}},
     {int(time_invariant(model))},
-    mf_dd_sparsity_out
+    mf_dd_sparsity_out,
+    {int(constant_derivatives(model))}
 }};
 """)
     return "\n".join(lines)

@@ -82,6 +82,10 @@ typedef struct {
        or n_rows, n_cols, 1 for a dense one). A dense dd of a joined model of 32 blocks
        would be 100,000 mostly zero entries, written one by one in its C */
     const mf_int *(*dd_sparsity)(mf_int i);
+    /* 1: every state derivative is a constant of the parameters (no t, x, q or u in
+       ode) and there is no event indicator: a Co-Simulation step adds h xdot, exactly,
+       without the solver (runtime.c step_without_solver) */
+    int constant_derivatives;
 } mf_model;
 
 extern const mf_model MF_MODEL;

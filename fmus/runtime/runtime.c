@@ -1396,6 +1396,25 @@ static int outputs_finite(mf_instance *I, const char *fn)
     return I->m->n_z == 0 || update_z(I, fn);
 }
 
+/* A step with no solver, where the model is a function of time: no event indicator
+   can fire, and there are no states (a kinematic source such as s = U sin(omega t))
+   or their derivatives are constants of the parameters (ConstantSpeed's travel' = v;
+   model.h constant_derivatives), so x(t_end) = x + (t_end - t) xdot exactly. The step
+   is then one evaluation, not a solver's steps. 1: done (I->t not yet moved); 0: the
+   solver must take it; -1: the derivatives could not be evaluated. */
+static int step_without_solver(mf_instance *I, const char *fn, double t_end)
+{
+    const mf_model *m = I->m;
+    double h = t_end - I->t;
+    int i;
+    if (m->n_z != 0 || (m->n_x != 0 && !m->constant_derivatives)) return 0;
+    if (m->n_x == 0) return 1;
+    if (!update_xdot(I, fn)) return -1;
+    for (i = 0; i < m->n_x; i++) I->x[i] += h * I->xdot[i];
+    solvers_restart(I); /* their memory of the last step no longer holds */
+    return 1;
+}
+
 mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double *last_time,
                      int *terminate, int *early_return)
 {
@@ -1478,6 +1497,11 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
         }
     }
 
+    switch (step_without_solver(I, fn, t_end)) {
+    case 1: I->t = t_end; break;
+    case 0: break;
+    default: goto fail;
+    }
     while (I->t < t_end) {
         double t_old = I->t, t_event;
         int found;

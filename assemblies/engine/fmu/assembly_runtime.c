@@ -30,7 +30,7 @@
    description is read from resources/ at instantiation, so this one only names it. */
 const mf_model MF_MODEL = {"assembly", "", 0, 0, 0, 0, 0, 0, 0, 0, NULL, NULL, NULL,
                            {NULL, NULL}, {NULL, NULL}, {NULL, NULL}, {NULL, NULL},
-                           {NULL, NULL}, {NULL, NULL}, -1, NULL, {NULL, NULL}, 0, NULL};
+                           {NULL, NULL}, {NULL, NULL}, -1, NULL, {NULL, NULL}, 0, NULL, 0};
 
 const char *const mf_log_categories[MF_N_LOG_CATEGORIES] = {
     "logEvents", "logStatusWarning", "logStatusError", "logSolver"};
