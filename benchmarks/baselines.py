@@ -29,6 +29,21 @@ class _Counted:
         return self.fn(t, y)
 
 
+_JITTED: dict = {}
+
+
+def jitted(fn):
+    """`fn` compiled by numba (once per process): the baseline an engineer who knows
+    numba writes. numba is an optional benchmark dependency (the `bench` extra)."""
+    if fn not in _JITTED:
+        try:
+            import numba
+        except ImportError:
+            raise RuntimeError("the numba baselines need numba: pip install mechfmu[bench]") from None
+        _JITTED[fn] = numba.njit(cache=False)(fn)
+    return _JITTED[fn]
+
+
 def _smooth(rhs, y0, times, method, tol, jac=None):
     counted = _Counted(rhs)
     # scipy's LSODA takes the Jacobian only as a callable
@@ -63,9 +78,18 @@ class CoulombBlock:
         return 0 if abs(F) < limit else int(math.copysign(1, F))
 
 
-def coulomb_block(block: CoulombBlock, x0, v0, times, method, tol):
-    """Integrate phase by phase; each phase ends at a terminal event (slip or stop)."""
+def drag_slip_rhs(t, y, s, m, k, speed, mu_k_N):
+    """Sliding with the spring's end dragged at `speed` (stick_slip), direction s."""
+    return np.array([y[1], (k * (speed * t - y[0]) - s * mu_k_N) / m])
+
+
+def coulomb_block(block: CoulombBlock, x0, v0, times, method, tol, jit_speed=None):
+    """Integrate phase by phase; each phase ends at a terminal event (slip or stop).
+
+    jit_speed: the block is dragged at this constant speed (stick_slip) and its sliding
+    right-hand side is the numba-compiled drag_slip_rhs."""
     N = block.m * block.g
+    slip_jit = jitted(drag_slip_rhs) if jit_speed is not None else None
     t, y = float(times[0]), np.array([x0, v0], dtype=float)
     mode = int(math.copysign(1, v0)) if v0 != 0 else block.after_stop(t, x0)
     out, nfev, steps = np.empty(len(times)), 0, 0
@@ -78,8 +102,13 @@ def coulomb_block(block: CoulombBlock, x0, v0, times, method, tol):
             ev_bwd = lambda tt, yy: block.mu_s * N + block.applied(tt, yy[0])
             events = [ev_fwd, ev_bwd]
         else:
-            def rhs(tt, yy, s=mode):
-                return np.array([yy[1], (block.applied(tt, yy[0]) - s * block.mu_k * N) / block.m])
+            if slip_jit is not None:
+                def rhs(tt, yy, s=float(mode)):
+                    return slip_jit(tt, yy, s, block.m, block.k, jit_speed, block.mu_k * N)
+            else:
+                def rhs(tt, yy, s=mode):
+                    return np.array([yy[1],
+                                     (block.applied(tt, yy[0]) - s * block.mu_k * N) / block.m])
             events = [lambda tt, yy, s=mode: s * yy[1]]  # sliding stops where s v falls to 0
         for ev in events:
             ev.terminal, ev.direction = True, -1
@@ -128,15 +157,20 @@ def beam(M, K, tip, a0, times, method, tol):
 
 
 # --- a rigid body on an inclined axle, J theta'' = -m g k.(n x r(theta)) ---------------
-def axle(m, g, J_n, r, n, theta0, times, method, tol):
+def axle_rhs(y, m_g, J_n, r, n, n_x_r, n_dot_r):
+    c, s = math.cos(y[0]), math.sin(y[0])
+    r_t = c * r + s * n_x_r + (1 - c) * n_dot_r * n      # Rodrigues
+    torque = -m_g * (n[0] * r_t[1] - n[1] * r_t[0])      # (n x r_t)_z
+    return np.array([y[1], torque / J_n])
+
+
+def axle(m, g, J_n, r, n, theta0, times, method, tol, jit=False):
     r, n = np.asarray(r, float), np.asarray(n, float) / np.linalg.norm(n)
-    n_x_r, n_dot_r = np.cross(n, r), n @ r
+    n_x_r, n_dot_r = np.cross(n, r), float(n @ r)
+    kernel = jitted(axle_rhs) if jit else axle_rhs
 
     def rhs(t, y):
-        c, s = math.cos(y[0]), math.sin(y[0])
-        r_t = c * r + s * n_x_r + (1 - c) * n_dot_r * n      # Rodrigues
-        torque = -m * g * np.cross(n, r_t)[2]
-        return np.array([y[1], torque / J_n])
+        return kernel(y, m * g, J_n, r, n, n_x_r, n_dot_r)
 
     values, nfev, steps = _smooth(rhs, np.array([theta0, 0.0]), times, method, tol)
     return values[0], nfev, steps
@@ -174,16 +208,21 @@ def coin_derivatives(state, m, R, g):
     r = R * np.array([-sf * ct, cf * ct, st])
     S_r = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
     A = I_cm @ W - m * R * (S_r @ J)
+    L = I_cm @ omega
+    omega_x_L = np.array([omega[1] * L[2] - omega[2] * L[1], omega[2] * L[0] - omega[0] * L[2],
+                          omega[0] * L[1] - omega[1] * L[0]])
     b = (-m * g * np.array([r[1], -r[0], 0.0])          # r x e3
-         + m * R * (S_r @ Jdot_qd) - I_cm @ Wdot_qd - np.cross(omega, I_cm @ omega))
+         + m * R * (S_r @ Jdot_qd) - I_cm @ Wdot_qd - omega_x_L)
     qdd = np.linalg.solve(A, b)
     return np.array([v_G[0], v_G[1], phd, thd, psd, qdd[0], qdd[1], qdd[2]])
 
 
-def coin(m, R, g, theta_min, y0, times, method, tol):
+def coin(m, R, g, theta_min, y0, times, method, tol, jit=False):
     """theta at the output times; the run ends early (error) if the coin falls flat."""
+    kernel = jitted(coin_derivatives) if jit else coin_derivatives
+
     def rhs(t, y):
-        return coin_derivatives(y, m, R, g)
+        return kernel(y, m, R, g)
 
     def flat(t, y):
         return math.sin(y[3]) - math.sin(theta_min)

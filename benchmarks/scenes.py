@@ -6,6 +6,7 @@ runtime's log, fmpy's call log), so that counting never slows the timed run.
 """
 from __future__ import annotations
 
+import importlib.util
 import math
 from dataclasses import dataclass
 from functools import partial
@@ -65,9 +66,15 @@ def _our_methods(fmu: SingleFmu | None, masters: Masters | None, times, smooth: 
     return methods
 
 
-def _scipy(methods, runner):
+def _scipy(methods, runner, jit_runner=None):
+    """scipy's methods on the hand-written numpy right-hand side; with `jit_runner`, and
+    numba installed (the `bench` extra), on the numba-compiled one too (scipy_numba_*)."""
     for method in baselines.METHODS:
         methods[f"scipy_{method}"] = lambda tol, count, m=method: runner(m, tol)
+    if jit_runner is None or importlib.util.find_spec("numba") is None:
+        return
+    for method in baselines.METHODS:
+        methods[f"scipy_numba_{method}"] = lambda tol, count, m=method: jit_runner(m, tol)
 
 
 # (stop time, output interval) of each scene; the beams' per-simulated-second cost uses it too
@@ -112,11 +119,12 @@ def stick_slip(smooth_law: bool = False) -> Case:
         block_model = baselines.CoulombBlock(p["m"], p["k"], p["g"], p["mu_k"], p["mu_s"],
                                              s_end=lambda t: speed * t)
         run = partial(baselines.coulomb_block, block_model, 0.0, 0.0, times)
+        jit_run = partial(run, jit_speed=speed)
         _, exact = references.coulomb_drag(p["m"], p["k"], p["g"], p["mu_k"], p["mu_s"],
                                            speed, times[-1])
         reference = exact(times)
         kind = "piecewise analytic (seed 9.2)"
-    _scipy(methods, run)
+    _scipy(methods, run, None if smooth_law else jit_run)
     name = "stick_slip_smooth" if smooth_law else "stick_slip"
     return Case(name, times, reference, kind, methods, fmu.path, fmu.component)
 
@@ -156,7 +164,8 @@ def axle_pendulum() -> Case:
     times = output_times("axle_pendulum")
     fmu = SingleFmu(body, "theta")
     methods = _our_methods(fmu, Masters(asm, "body.theta"), times, smooth=True)
-    _scipy(methods, partial(baselines.axle, p["m"], p["g"], J_n, r, n, theta0, times))
+    axle_run = partial(baselines.axle, p["m"], p["g"], J_n, r, n, theta0, times)
+    _scipy(methods, axle_run, partial(axle_run, jit=True))
     reference = references.pendulum(math.sqrt(rho / J_n), theta_eq, theta0)(times)
     return Case("axle_pendulum", times, reference, "exact pendulum, Jacobi sn (scipy ellipj)",
                 methods, fmu.path, body)
@@ -172,7 +181,8 @@ def coin_rolling() -> Case:
     p = coin.values
     y0 = [coin.starts[k] for k in ("x", "y", "phi", "theta", "psi", "phi_dot", "theta_dot",
                                    "psi_dot")]
-    _scipy(methods, partial(baselines.coin, p["m"], p["R"], p["g"], p["theta_min"], y0, times))
+    coin_run = partial(baselines.coin, p["m"], p["R"], p["g"], p["theta_min"], y0, times)
+    _scipy(methods, coin_run, partial(coin_run, jit=True))
     # the reference is the joined CasADi model at the tightest tolerance DOP853 holds (the
     # hand-written RHS above agrees with it to round-off: tests/integration/test_bench.py)
     reference = masters.monolithic(times, 1e-13)[0]

@@ -42,7 +42,9 @@ ca = lazy("casadi")  # loaded by the first equation written, not by an import
 #: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
 #: and back where it is gone (fmus/runtime/stiffness.h)
 METHODS = {name: value for value, name in SOLVER_METHODS.items()}  # the C's ENG_* values
-EVENT_SUBSAMPLES = 4  # interior points per step scanned for an indicator crossing twice
+# at most this many interior points per step, sampled only where an indicator's values and
+# rates at the step's ends leave room for it to cross twice inside (events.h)
+EVENT_SUBSAMPLES = 4
 #: the Jacobian RODAS3 and the stiffness check use (engine.h, ENG_JACOBIAN_*): "auto",
 #: directional derivatives unless a foreign FMU's disagree with differences at the first
 #: point or fail; "fd", finite differences; "exact", directional derivatives or an error

@@ -129,12 +129,56 @@ static double first_dip(int m, const double *theta, const double *v, int n, int 
     return 2.0;
 }
 
+/* Whether no indicator can cross zero and come back inside the step, so that the signs
+   at its ends tell all (the interior need not be sampled). Each indicator's rate at
+   both ends is taken by a difference over QUIET_DTHETA of the step, inward, on the
+   caller's dense output (two evaluations, against n_sub); with the values at the ends
+   they give its Hermite cubic, whose Bernstein coefficients bound it on the step. The
+   step is quiet when, for every indicator (f: the indicator on its reference's side),
+   - not crossed at tb: every coefficient stays above zero by more than the cubic's own
+     bend away from the chord (the room left for the dense output's quartic part, which
+     the step-size control keeps below the cubic's) plus the differences' error;
+   - crossed at tb: the coefficients fall by more than that at each of the three
+     intervals (the cubic is monotone: one root, the one the bracket finds).
+   A reference at zero (an indicator restarting at zero) or a reference that is not the
+   value at ta (an old side kept across an event: its difference to z(ta + d) is then
+   no rate and fails the test) is never quiet. 1: quiet; 0: sample; -1: not finite. */
+#define QUIET_DTHETA (1.0 / 1024.0)
+static int quiet_step(mf_indicator_fn z, void *ctx, int n, double ta, const double *z_ref,
+                      double tb, const double *z_b, double *z_a1, double *z_b1)
+{
+    const double h = tb - ta, d = QUIET_DTHETA;
+    int i;
+    for (i = 0; i < n; i++)
+        if (mf_at_zero(z_ref[i]) || mf_at_zero(z_b[i])) return 0;
+    if (z(ctx, ta + d * h, z_a1) || !all_finite(n, z_a1)) return -1;
+    if (z(ctx, tb - d * h, z_b1) || !all_finite(n, z_b1)) return -1;
+    for (i = 0; i < n; i++) {
+        const double s = z_ref[i] > 0.0 ? 1.0 : -1.0;
+        const double fa = s * z_ref[i], fb = s * z_b[i];
+        const double da = s * (z_a1[i] - z_ref[i]) / d, db = s * (z_b[i] - z_b1[i]) / d;
+        const double b1 = fa + da / 3.0, b2 = fb - db / 3.0; /* b0 = fa, b3 = fb */
+        const double chord = fb - fa;
+        /* the cubic's bend from the chord (Bernstein coefficients of their difference),
+           the differences' error (d times the change of rate), a rounding floor */
+        const double margin = fabs(da - chord) / 3.0 + fabs(chord - db) / 3.0 +
+                              d * fabs(db - da) + 1e-12 * (fabs(fa) + fabs(fb));
+        if (fb > 0.0) {
+            if (!(b1 > margin && b2 > margin && s * z_a1[i] > 0.0 && s * z_b1[i] > 0.0))
+                return 0;
+        } else if (!(fa - b1 > margin && b1 - b2 > margin && b2 - fb > margin)) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_ref, double tb,
                     const double *z_b, int n_sub, double *t_event, double *z_event,
                     double *work)
 {
     /* samples[k] (k = 0 .. m - 1) at theta[k] = (k + 1) / m of the step; the last is tb */
-    const int m = (n_sub < 63 ? n_sub : 63) + 1; /* theta[] holds 64; more buy nothing */
+    int m = (n_sub < 63 ? n_sub : 63) + 1; /* theta[] holds 64; more buy nothing */
     double *samples = work, *z_right = work + (size_t)m * n, *z_tmp = z_right + n;
     double *origin = z_tmp + n; /* 1: the indicator starts this step at exactly zero */
     double theta[64];
@@ -157,6 +201,12 @@ int mf_locate_event(mf_indicator_fn z, void *ctx, int n, double ta, double *z_re
         *t_event = tb;
         memcpy(z_event, z_b, (size_t)n * sizeof(double));
         return 1;
+    }
+    if (m > 1) {
+        /* the interior is sampled only where a double crossing can hide */
+        int quiet = quiet_step(z, ctx, n, ta, z_ref, tb, z_b, z_tmp, z_right);
+        if (quiet < 0) return -1;
+        if (quiet) m = 1;
     }
     for (k = 0; k < m; k++) {
         double *zk = samples + (size_t)k * n;

@@ -41,7 +41,13 @@ int mf_crossed(double before, double after);
  * reference z_ref (mf_crossed). z_b: the indicators at tb.
  *
  * An indicator can cross twice inside one step (a slip shorter than a solver
- * step): its sign at tb is then its sign at ta. To find that, the indicators are
+ * step): its sign at tb is then its sign at ta. Where that cannot happen the interior
+ * is not sampled: each indicator's rate at both ends (a difference over 1/1024 of the
+ * step, inward: two evaluations in all) and its values there give its Hermite cubic,
+ * and when the cubic's Bernstein coefficients keep every indicator that has not
+ * crossed away from zero (and every one that has crossed falling monotonically) by
+ * more than the cubic's bend from its chord, the signs at the ends decide. Otherwise
+ * (and always when a reference is at zero) the indicators are
  * sampled at n_sub equally spaced interior points, and, from n_sub >= 2 on, the
  * polynomial through the samples and tb is searched between them for a dip across
  * zero; a dip is kept only if the indicator itself has crossed there. The dense

@@ -1,0 +1,141 @@
+"""The public single-component call against the C limit and the best scipy (issue 27).
+
+    python -m benchmarks.single_limit [--rounds 5] [--scenes stick_slip ...] [--json PATH]
+
+For stick_slip, axle_pendulum and coin_rolling: the compiled engine as a user calls it
+(`engine_me`, `engine_monolithic`: the public call is the faster of the two at each
+error), `c_limit` (benchmarks/c_limit.c: the same generated model under plain DOPRI5)
+and scipy's solve_ivp on the hand-written right-hand sides, in numpy and numba-compiled
+(`scipy_numba_*`, when numba is installed: the `bench` extra). Each round runs every
+method at every tolerance, round-robin, and takes process CPU time (a run shorter than
+MIN_CPU_S is repeated and averaged, so the clock's grain does not count); in each round
+the CPU time at errors 1e-3, 1e-6 and 1e-9 is interpolated on each method's curve
+(analysis.wall_at_error) and the ratios are taken within that round. The table gives
+each ratio's median and its spread (least to greatest) over the rounds.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import time
+from pathlib import Path
+
+from .analysis import wall_at_error
+from .runners import max_error
+from .scenes import SCENES
+
+SCENE_NAMES = ("stick_slip", "axle_pendulum", "coin_rolling")
+ERRORS = (1e-3, 1e-6, 1e-9)
+TOLERANCES = tuple(10.0**-k for k in range(2, 13))   # 1e-2 ... 1e-12
+SCIPY_TOLERANCES = tuple(10.0**-k for k in range(2, 12))
+# solve_ivp's methods that can be the best here (Radau is the stiff one: never, and slow)
+SCIPY_METHODS = ("RK45", "DOP853", "LSODA")
+MIN_CPU_S = 0.01
+LIMIT_MAX, SCIPY_MIN = 2.0, 50.0   # the issue's targets
+
+
+def _cpu(fn, tol):
+    """(values, CPU seconds per run)."""
+    runs, started = 0, time.process_time()
+    while True:
+        values = fn(tol, False)[0]
+        runs += 1
+        spent = time.process_time() - started
+        if spent >= MIN_CPU_S:
+            return values, spent / runs
+
+
+def _methods(case):
+    names = ["c_limit", "engine_me", "engine_monolithic"]
+    names += [f"scipy_{m}" for m in SCIPY_METHODS]
+    names += [f"scipy_numba_{m}" for m in SCIPY_METHODS]
+    return {n: case.methods[n] for n in names if n in case.methods}
+
+
+def _best(records, scene, methods, error):
+    walls = [(wall_at_error(records, scene, m, error), m) for m in methods]
+    walls = [w for w in walls if w[0] is not None]
+    return min(walls) if walls else None
+
+
+def measure(scene: str, rounds: int, log=print) -> list[dict]:
+    """One row per (round, error): the CPU time of each side and the ratios."""
+    case = SCENES[scene]()
+    methods = _methods(case)
+    for name, fn in methods.items():  # builds, loads, compiles: never timed
+        fn(1e-6, False)
+    rows = []
+    for rnd in range(rounds):
+        records = []
+        for tol in TOLERANCES:
+            for name, fn in methods.items():
+                if name.startswith("scipy") and tol not in SCIPY_TOLERANCES:
+                    continue
+                try:
+                    values, cpu = _cpu(fn, tol)
+                    error = max_error(values, case.reference)
+                except Exception as exc:  # a failed run is a point off the curve
+                    log(f"  {scene} {name} at {tol:g} failed: {exc}")
+                    error, cpu = math.inf, math.nan
+                records.append({"scene": scene, "method": name, "tolerance": tol,
+                                "error": error, "wall_s": cpu})
+        for error in ERRORS:
+            limit = _best(records, scene, ["c_limit"], error)
+            public = _best(records, scene, ["engine_me", "engine_monolithic"], error)
+            scipy = _best(records, scene, [m for m in methods if m.startswith("scipy")], error)
+            numba = _best(records, scene, [m for m in methods if m.startswith("scipy_numba")],
+                          error)
+            rows.append({"scene": scene, "round": rnd, "error": error,
+                         "c_limit": limit, "public": public, "scipy": scipy, "numba": numba,
+                         "public/c_limit": public[0] / limit[0] if public and limit else None,
+                         "scipy/public": scipy[0] / public[0] if scipy and public else None,
+                         "numba/public": numba[0] / public[0] if numba and public else None})
+        log(f"  {scene}: round {rnd + 1}/{rounds} done")
+    return rows
+
+
+def _spread(values):
+    values = [v for v in values if v is not None]
+    if not values:
+        return "not reached"
+    return f"{statistics.median(values):.2f}x ({min(values):.2f}-{max(values):.2f})"
+
+
+def table(rows) -> str:
+    lines = ["| scene | error | public/c_limit (<= 2) | best scipy/public (>= 50) | "
+             "numba scipy/public | public [ms] | c_limit [ms] | best scipy |",
+             "|---|---|---|---|---|---|---|---|"]
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        for error in ERRORS:
+            sel = [r for r in rows if r["scene"] == scene and r["error"] == error]
+
+            def ms(side):
+                got = [r[side][0] * 1e3 for r in sel if r[side]]
+                return f"{statistics.median(got):.3f}" if got else "-"
+            best = [r["scipy"][1] for r in sel if r["scipy"]]
+            lines.append(f"| {scene} | {error:.0e} | {_spread(r['public/c_limit'] for r in sel)} "
+                         f"| {_spread(r['scipy/public'] for r in sel)} "
+                         f"| {_spread(r['numba/public'] for r in sel)} | {ms('public')} "
+                         f"| {ms('c_limit')} | {max(set(best), key=best.count) if best else '-'} |")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--scenes", nargs="+", default=list(SCENE_NAMES), choices=SCENE_NAMES)
+    ap.add_argument("--json", type=Path, default=Path(__file__).with_name("single_limit.json"))
+    args = ap.parse_args(argv)
+    if args.rounds < 1:
+        ap.error("--rounds must be at least 1")
+    rows = []
+    for scene in args.scenes:
+        rows += measure(scene, args.rounds)
+    print(table(rows))
+    args.json.write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    main()
