@@ -761,10 +761,21 @@ static int exit_initialization(me_master *M)
 {
     const eng_me_spec *s = M->spec;
     const double t0 = M->t;
+    const int nc = s->n_couplings;
     int i, k, bad;
-    for (k = 0; k < M->n; k++) /* settles any loop-free chain of outputs */
-        if (eng_propagate(M->fmus, s->couplings, s->n_couplings, NULL, &bad))
+    /* A loop-free chain of outputs settles within as many passes as there are instances,
+       but a pass that changes no coupled value is a fixed point: the passes after it
+       would set the same values again. Stopping there keeps the initialization linear in
+       the size of an assembly whose couplings come in (or near) causal order, where n
+       passes of every coupling cost n^2 FMU calls (769 instances of a 256-block chain:
+       half of its 10 s run). */
+    for (k = 0; k < M->n && nc > 0; k++) {
+        double *now = k % 2 ? M->values_new : M->values;
+        const double *before = k % 2 ? M->values : M->values_new;
+        if (eng_propagate(M->fmus, s->couplings, nc, now, &bad))
             return failed(M, bad, "evaluating the couplings", t0);
+        if (k > 0 && memcmp(now, before, (size_t)nc * sizeof(double)) == 0) break;
+    }
     for (i = 0; i < M->n; i++) {
         if (fmu_exit_initialization(M->fmus[i]))
             return failed(M, i, "leaving initialization", t0);
