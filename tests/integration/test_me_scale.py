@@ -41,3 +41,62 @@ def test_initialization_settles_a_causal_chain_in_a_few_passes():
     sets = [res[f"r{k}.init_sets"][0] for k in range(2, RELAYS + 1)]
     # one pass that sets, one that confirms: two sets of each coupled input
     assert max(sets) <= 2, sets
+
+
+# --- the Jacobian's column groups (c/jacobian.c) ---------------------------------------
+
+def stiff_chain_run(n: int, jacobian: str, stop: float = 20.0):
+    """The benchmark's friction chain (started at rest) under RODAS3, so that every step
+    takes a Jacobian."""
+    from benchmarks.chain import friction_chain, positions
+    asm = friction_chain(n, d=2.0, belt_speed=0.1)
+    return simulate_me(asm, stop, 0.5, 1e-8, method="RODAS3", jacobian=jacobian,
+                       record=positions(n))
+
+
+@pytest.mark.parametrize("n", [3, 12])
+def test_grouped_jacobian_gives_the_solution_of_differences(n):
+    """Columns seeded together (no two of a group reach the same derivative) give the
+    Jacobian that forward differences of the right-hand side give column by column:
+    the same RODAS3 run, step for step."""
+    from benchmarks.chain import positions
+    grouped, differences = stiff_chain_run(n, "exact"), stiff_chain_run(n, "fd")
+    assert grouped.settings["jacobian"] == "directional derivatives"
+    assert differences.settings["jacobian"] == "finite differences"
+    assert grouped.settings["jacobians"] > 100
+    # a Jacobian wrong in any entry that matters would change the steps RODAS3 takes
+    for k in ("steps", "rejected", "jacobians"):
+        assert grouped.settings[k] == differences.settings[k]
+    for c in positions(n):
+        np.testing.assert_allclose(grouped[c], differences[c], rtol=0, atol=1e-7)
+
+
+def test_a_chain_takes_as_many_propagations_per_jacobian_whatever_its_length():
+    """A chain couples each block to its neighbours only: its Jacobian is banded, and
+    the column groups that cover it do not grow with the chain (2n + n + 1 states),
+    nor do the directional-derivative calls per instance and Jacobian (counted)."""
+    per_instance, groups = {}, {}
+    for n in (4, 16):
+        res = stiff_chain_run(n, "exact", stop=4.0)
+        s = res.settings
+        n_states, n_instances = 3 * n + 1, 3 * n + 1  # 2 per block, 1 per belt and the wall
+        groups[n] = s["jacobian_groups"]
+        per_instance[n] = s["jacobian_evaluations"] / s["jacobians"] / n_instances
+        assert 1 <= groups[n] < n_states
+    assert groups[4] == groups[16] < (3 * 16 + 1) / 4
+    # each group evaluates each instance about once: about `groups` calls per instance
+    assert per_instance[16] <= groups[16] + 1
+    assert per_instance[16] <= per_instance[4] * 1.25
+
+
+def test_a_fully_coupled_model_gets_one_group_per_column():
+    """Robertson's kinetics: every derivative depends on every state (one instance),
+    so no two columns can share a propagation: three groups for three states, the
+    column-by-column Jacobian, and the published solution at t = 40."""
+    asm = Assembly("robertson")
+    asm.add("rob", FMU(handmade_fmu("me_robertson")))
+    res = simulate_me(asm, 40.0, 4.0, tolerance=1e-6, jacobian="exact", method="RODAS3")
+    assert res.settings["jacobian_groups"] == 3
+    assert res.settings["jacobian_evaluations"] == 3 * res.settings["jacobians"]
+    assert [res[f"rob.y{k}"][-1] for k in (1, 2, 3)] == pytest.approx(
+        [0.7158, 9.185e-6, 0.2842], rel=2e-3)

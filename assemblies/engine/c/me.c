@@ -1182,6 +1182,10 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
     stats->rejected = M.dopri.n_rejected + M.ros.n_rejected;
     stats->jacobians = M.ros.n_jac;
     stats->method_switches = M.stiff.switches;
+    if (M.exact) {
+        stats->jacobian_groups = eng_jacobian_groups(M.exact);
+        stats->jacobian_evaluations = eng_jacobian_evaluations(M.exact);
+    }
     release(&M);
     return M.run;
 
