@@ -69,7 +69,8 @@ class Stats(C.Structure):  # eng_stats
                 ("at_rest_from", C.c_double), ("terminated_by", C.c_int),
                 ("exact_jacobian", C.c_int), ("message", C.c_char * 1024),
                 ("jacobian_note", C.c_char * 512),
-                ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long)]
+                ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
+                ("jacobian_band", C.c_long)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec

@@ -57,13 +57,17 @@ def stiff_chain_run(n: int, jacobian: str, stop: float = 20.0):
 @pytest.mark.parametrize("n", [3, 12])
 def test_grouped_jacobian_gives_the_solution_of_differences(n):
     """Columns seeded together (no two of a group reach the same derivative) give the
-    Jacobian that forward differences of the right-hand side give column by column:
-    the same RODAS3 run, step for step."""
+    Jacobian that forward differences of the right-hand side give column by column,
+    and the banded factorisation the chain's pattern allows (n = 12: a band of 10
+    diagonals among 37 states) solves what the dense one solves: the same RODAS3 run,
+    step for step."""
     from benchmarks.chain import positions
     grouped, differences = stiff_chain_run(n, "exact"), stiff_chain_run(n, "fd")
     assert grouped.settings["jacobian"] == "directional derivatives"
     assert differences.settings["jacobian"] == "finite differences"
     assert grouped.settings["jacobians"] > 100
+    assert differences.settings["jacobian_band"] == 0  # no pattern: dense
+    assert (grouped.settings["jacobian_band"] > 0) == (n == 12)
     # a Jacobian wrong in any entry that matters would change the steps RODAS3 takes
     for k in ("steps", "rejected", "jacobians"):
         assert grouped.settings[k] == differences.settings[k]
@@ -83,6 +87,8 @@ def test_a_chain_takes_as_many_propagations_per_jacobian_whatever_its_length():
         groups[n] = s["jacobian_groups"]
         per_instance[n] = s["jacobian_evaluations"] / s["jacobians"] / n_instances
         assert 1 <= groups[n] < n_states
+        # 16 blocks: a band of a few diagonals, factored as one (4: dense is as cheap)
+        assert (0 < s["jacobian_band"] <= 12) if n == 16 else s["jacobian_band"] == 0
     assert groups[4] == groups[16] < (3 * 16 + 1) / 4
     # each group evaluates each instance about once: about `groups` calls per instance
     assert per_instance[16] <= groups[16] + 1
@@ -92,11 +98,12 @@ def test_a_chain_takes_as_many_propagations_per_jacobian_whatever_its_length():
 def test_a_fully_coupled_model_gets_one_group_per_column():
     """Robertson's kinetics: every derivative depends on every state (one instance),
     so no two columns can share a propagation: three groups for three states, the
-    column-by-column Jacobian, and the published solution at t = 40."""
+    column-by-column Jacobian, factored dense, and the published solution at t = 40."""
     asm = Assembly("robertson")
     asm.add("rob", FMU(handmade_fmu("me_robertson")))
     res = simulate_me(asm, 40.0, 4.0, tolerance=1e-6, jacobian="exact", method="RODAS3")
     assert res.settings["jacobian_groups"] == 3
+    assert res.settings["jacobian_band"] == 0
     assert res.settings["jacobian_evaluations"] == 3 * res.settings["jacobians"]
     assert [res[f"rob.y{k}"][-1] for k in (1, 2, 3)] == pytest.approx(
         [0.7158, 9.185e-6, 0.2842], rel=2e-3)

@@ -158,6 +158,9 @@ typedef struct {
     /* Model Exchange, Jacobian from directional derivatives: column groups per Jacobian
        (jacobian.h) and directional-derivative calls over the run; 0 otherwise */
     long jacobian_groups, jacobian_evaluations;
+    /* RODAS3's matrix factored as a band of this many diagonals (jacobian.h, solver_implicit.h);
+       0: dense */
+    long jacobian_band;
 } eng_stats;
 
 typedef struct {

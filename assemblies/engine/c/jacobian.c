@@ -315,6 +315,18 @@ int eng_jacobian_groups(const eng_jacobian *J) { return J->n_groups; }
 
 long eng_jacobian_evaluations(const eng_jacobian *J) { return J->evaluations; }
 
+void eng_jacobian_bandwidth(const eng_jacobian *J, int *kl, int *ku)
+{
+    int j, q;
+    *kl = *ku = 0;
+    for (j = 0; j < J->n_x; j++)
+        for (q = J->col_start[j]; q < J->col_start[j + 1]; q++) {
+            const int d = J->row_idx[q] - j;
+            if (d > *kl) *kl = d;
+            if (-d > *ku) *ku = -d;
+        }
+}
+
 int eng_jacobian_eval(eng_jacobian *J, fmu_t **fmus, const int *asleep, double *jac, int *bad)
 {
     const size_t n_x = (size_t)J->n_x;

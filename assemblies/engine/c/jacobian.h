@@ -50,6 +50,10 @@ int eng_jacobian_eval(eng_jacobian *J, fmu_t **fmus, const int *asleep, double *
    states' count where the structure couples nearly all of them, a few for a chain. */
 int eng_jacobian_groups(const eng_jacobian *J);
 
+/* The pattern's bandwidth in the states' order: no entry lies more than *kl rows
+   below or *ku columns above the diagonal (a chain's are a few states wide). */
+void eng_jacobian_bandwidth(const eng_jacobian *J, int *kl, int *ku);
+
 /* Directional-derivative calls made so far, over all instances. */
 long eng_jacobian_evaluations(const eng_jacobian *J);
 
