@@ -45,7 +45,9 @@ class InstanceSpec(C.Structure):  # eng_instance_spec
                 ("n_typed_starts", C.c_int), ("typed_starts", _P(Variable)),
                 ("typed_start_values", _P(C.c_double)),
                 ("n_string_starts", C.c_int), ("string_start_vr", _P(C.c_uint32)),
-                ("string_start_values", _P(C.c_char_p))]
+                ("string_start_values", _P(C.c_char_p)),
+                ("feedthrough_listed", C.c_int), ("n_feedthrough", C.c_int),
+                ("feedthrough_unknown", _P(C.c_uint32)), ("feedthrough_known", _P(C.c_uint32))]
 
 
 class EventGroup(C.Structure):  # eng_event_group
@@ -66,7 +68,9 @@ class Stats(C.Structure):  # eng_stats
                 ("jacobians", C.c_long), ("events", C.c_long), ("method_switches", C.c_long),
                 ("at_rest_from", C.c_double), ("terminated_by", C.c_int),
                 ("exact_jacobian", C.c_int), ("message", C.c_char * 1024),
-                ("jacobian_note", C.c_char * 512)]
+                ("jacobian_note", C.c_char * 512),
+                ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
+                ("jacobian_band", C.c_long)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec
@@ -135,7 +139,27 @@ def instance_spec(keep: Keep, name: str, fmu, model_exchange: bool, starts: dict
         # an array state is one value reference for many states: the engine's Jacobian
         # from directional derivatives is per value reference, so it takes differences
         s.provides_directional_derivative = 0
+    if model_exchange:
+        set_feedthrough(keep, s, fmu)
     return s
+
+
+def set_feedthrough(keep: Keep, spec: InstanceSpec, fmu) -> None:
+    """Which inputs each scalar output and derivative of `fmu` depends on, by value
+    reference (eng_instance_spec.feedthrough_listed): the ModelStructure as
+    liveness.py reads it, every input where it lists nothing. An array input or output
+    is one value reference for many values: then nothing is listed (every unknown
+    depends on every input)."""
+    from .liveness import inputs_behind
+    scalar = [v for v in (*fmu.outputs, *fmu.derivatives, *fmu.inputs) if v in fmu.variables]
+    if any(fmu.variables[v][3] > 1 for v in scalar):
+        return
+    pairs = sorted({(fmu.variables[u][0], fmu.variables[i][0])
+                    for u in (*fmu.outputs, *fmu.derivatives) if u in fmu.variables
+                    for i in inputs_behind(fmu, u) if i in fmu.variables})
+    spec.feedthrough_listed, spec.n_feedthrough = 1, len(pairs)
+    spec.feedthrough_unknown = keep.array(C.c_uint32, [u for u, _ in pairs])
+    spec.feedthrough_known = keep.array(C.c_uint32, [i for _, i in pairs])
 
 
 def set_strings(keep: Keep, spec: InstanceSpec, strings: list) -> None:

@@ -29,14 +29,14 @@ def needed_inputs(fmus: dict, couplings, record, dynamics: bool = True) -> dict[
         if fmu.n_event_indicators:
             need[name] |= fmu.indicators_depend
     for name, var in record:
-        need[name] |= _inputs_behind(fmus[name], var)
+        need[name] |= inputs_behind(fmus[name], var)
     changed = True
     while changed:
         changed = False
         for c in couplings:
             (source, out), (target, inp) = c.source, c.target
             if inp in need[target]:
-                behind = _inputs_behind(fmus[source], out)
+                behind = inputs_behind(fmus[source], out)
                 if not behind <= need[source]:
                     need[source] |= behind
                     changed = True
@@ -57,7 +57,7 @@ def row_couplings(fmus: dict, couplings, record) -> list[bool]:
     return [c.target[1] in need[c.target[0]] for c in couplings]
 
 
-def _inputs_behind(fmu, var: str) -> set:
+def inputs_behind(fmu, var: str) -> set:
     """The inputs `var` of `fmu` depends on: an output's listed dependencies, an input
     itself, the derivatives' inputs for a derivative, none for a state; all inputs for
     anything else (a variable the ModelStructure does not describe)."""

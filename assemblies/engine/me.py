@@ -206,6 +206,9 @@ class _Plan:
             "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
             "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
             "method_switches": stats.method_switches,
+            "jacobian_groups": stats.jacobian_groups,
+            "jacobian_evaluations": stats.jacobian_evaluations,
+            "jacobian_band": stats.jacobian_band,
             "jacobian": "directional derivatives" if stats.exact_jacobian
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,

@@ -14,4 +14,13 @@ int mf_lu_factor(double *a, int n, int *piv);
 /* Solves A x = b with the factors of mf_lu_factor; b is overwritten by x. */
 void mf_lu_solve(const double *lu, int n, const int *piv, double *b);
 
+/* The same for a banded a: a(i, j) = 0 where i > j + kl or j > i + ku. Rows and
+   columns outside the band are neither read nor written except within kl + ku above
+   the diagonal (the fill of row swaps), which the caller must have set (to zero where
+   a has nothing). Returns as mf_lu_factor. */
+int mf_lu_factor_band(double *a, int n, int kl, int ku, int *piv);
+
+/* Solves A x = b with the factors of mf_lu_factor_band (same kl, ku). */
+void mf_lu_solve_band(const double *lu, int n, int kl, int ku, const int *piv, double *b);
+
 #endif

@@ -133,6 +133,18 @@ static int factor(mf_ros *s, double h)
     const double d = 1.0 / (h * GAMMA);
     int i;
     s->n_lu++;
+    if (s->banded) {
+        /* the band and the fill above it: kl + ku + kl diagonals */
+        int j;
+        for (j = 0; j < n; j++) {
+            const int first = j - s->kl - s->ku > 0 ? j - s->kl - s->ku : 0;
+            const int last = j + s->kl < n - 1 ? j + s->kl : n - 1;
+            for (i = first; i <= last; i++)
+                s->lu[i + (size_t)j * (size_t)n] = -s->jac[i + (size_t)j * (size_t)n];
+            s->lu[j + (size_t)j * (size_t)n] += d;
+        }
+        return mf_lu_factor_band(s->lu, n, s->kl, s->ku, s->piv) == 0;
+    }
     for (i = 0; i < n * n; i++) s->lu[i] = -s->jac[i];
     for (i = 0; i < n; i++) s->lu[i + i * n] += d;
     return mf_lu_factor(s->lu, n, s->piv) == 0;
@@ -141,7 +153,8 @@ static int factor(mf_ros *s, double h)
 /* the stage: K = lu \ rhs, rejected if not finite */
 static int solve(mf_ros *s, double *k)
 {
-    mf_lu_solve(s->lu, s->n, s->piv, k);
+    if (s->banded) mf_lu_solve_band(s->lu, s->n, s->kl, s->ku, s->piv, k);
+    else mf_lu_solve(s->lu, s->n, s->piv, k);
     return all_finite(k, (size_t)s->n);
 }
 

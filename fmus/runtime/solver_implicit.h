@@ -44,6 +44,10 @@ typedef struct {
     double h_guess;        /* controller's proposal for the next step; 0 = none yet */
     int fsal_valid;        /* f0 belongs to the current (t, x) */
     int jac_next_valid;    /* so does jac_next: cleared with fsal_valid */
+    /* banded: J is zero outside kl rows below and ku columns above the diagonal (the
+       caller knows its structure), so the matrix is factored in O(n kl (kl + ku));
+       0 (what mf_ros_alloc sets): dense */
+    int banded, kl, ku;
     long n_rejected;       /* statistics, for logging */
     long n_rhs;
     long n_jac;

@@ -100,6 +100,16 @@ typedef struct {
     int n_string_starts;
     const uint32_t *string_start_vr;
     const char *const *string_start_values;
+    /* Model Exchange: which inputs each derivative and output depends on (the FMU's
+       ModelStructure), for the sparsity of the Jacobian (jacobian.c). With
+       feedthrough_listed, unknown feedthrough_unknown[p] depends on input
+       feedthrough_known[p], p < n_feedthrough, and on no other input; 0 (the safe
+       default): every derivative and output may depend on every input. Every unknown
+       may depend on every state of its own instance either way. */
+    int feedthrough_listed;
+    int n_feedthrough;
+    const uint32_t *feedthrough_unknown;
+    const uint32_t *feedthrough_known;
 } eng_instance_spec;
 
 /* Outputs recorded at the events of some indicators of one instance: one event table
@@ -145,6 +155,12 @@ typedef struct {
     /* why the run left the directional derivatives for finite differences (ENG_JACOBIAN_AUTO),
        naming the instance; empty where it did not */
     char jacobian_note[512];
+    /* Model Exchange, Jacobian from directional derivatives: column groups per Jacobian
+       (jacobian.h) and directional-derivative calls over the run; 0 otherwise */
+    long jacobian_groups, jacobian_evaluations;
+    /* RODAS3's matrix factored as a band of this many diagonals (jacobian.h, solver_implicit.h);
+       0: dense */
+    long jacobian_band;
 } eng_stats;
 
 typedef struct {

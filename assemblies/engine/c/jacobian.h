@@ -17,6 +17,15 @@
  * the other non-Float64 and array couplings (an FMU with such couplings should not
  * offer directional derivatives to this run: assemblies/engine/binding.py).
  */
+/*
+ * Sparsity: the instances' ModelStructure (eng_instance_spec.feedthrough_listed) says
+ * which outputs and derivatives a coupled input reaches, so the plan follows each state
+ * through the couplings once, structurally, to the derivatives it can move: the
+ * Jacobian's pattern. Columns that share no row are seeded together (Curtis, Powell
+ * and Reid), and one propagation gives them all: a chain of n blocks takes a few
+ * propagations per Jacobian instead of 2n, each touching only the instances it reaches.
+ * Where the structure couples nearly everything, a group is one column, as before.
+ */
 #ifndef MECHFMU_ENGINE_JACOBIAN_H
 #define MECHFMU_ENGINE_JACOBIAN_H
 
@@ -36,6 +45,17 @@ eng_jacobian *eng_jacobian_plan(const eng_me_spec *spec, const int *x_off);
    are not called. 0: done; -1: instance *bad failed; 1: the couplings did not settle
    (an algebraic loop), so the caller should fall back to finite differences. */
 int eng_jacobian_eval(eng_jacobian *J, fmu_t **fmus, const int *asleep, double *jac, int *bad);
+
+/* How many column groups one Jacobian takes (one propagation of seeds each): the
+   states' count where the structure couples nearly all of them, a few for a chain. */
+int eng_jacobian_groups(const eng_jacobian *J);
+
+/* The pattern's bandwidth in the states' order: no entry lies more than *kl rows
+   below or *ku columns above the diagonal (a chain's are a few states wide). */
+void eng_jacobian_bandwidth(const eng_jacobian *J, int *kl, int *ku);
+
+/* Directional-derivative calls made so far, over all instances. */
+long eng_jacobian_evaluations(const eng_jacobian *J);
 
 void eng_jacobian_free(eng_jacobian *J);
 

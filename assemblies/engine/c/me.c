@@ -242,6 +242,7 @@ static void drop_exact(me_master *M, int instance, const char *format, ...)
     const size_t size = sizeof M->stats->jacobian_note;
     eng_jacobian_free(M->exact);
     M->exact = NULL;
+    M->ros.banded = 0; /* differences know no structure: dense from here on */
     M->stats->exact_jacobian = 0;
     if (format && instance >= 0) {
         va_list args;
@@ -761,10 +762,21 @@ static int exit_initialization(me_master *M)
 {
     const eng_me_spec *s = M->spec;
     const double t0 = M->t;
+    const int nc = s->n_couplings;
     int i, k, bad;
-    for (k = 0; k < M->n; k++) /* settles any loop-free chain of outputs */
-        if (eng_propagate(M->fmus, s->couplings, s->n_couplings, NULL, &bad))
+    /* A loop-free chain of outputs settles within as many passes as there are instances,
+       but a pass that changes no coupled value is a fixed point: the passes after it
+       would set the same values again. Stopping there keeps the initialization linear in
+       the size of an assembly whose couplings come in (or near) causal order, where n
+       passes of every coupling cost n^2 FMU calls (769 instances of a 256-block chain:
+       half of its 10 s run). */
+    for (k = 0; k < M->n && nc > 0; k++) {
+        double *now = k % 2 ? M->values_new : M->values;
+        const double *before = k % 2 ? M->values : M->values_new;
+        if (eng_propagate(M->fmus, s->couplings, nc, now, &bad))
             return failed(M, bad, "evaluating the couplings", t0);
+        if (k > 0 && memcmp(now, before, (size_t)nc * sizeof(double)) == 0) break;
+    }
     for (i = 0; i < M->n; i++) {
         if (fmu_exit_initialization(M->fmus[i]))
             return failed(M, i, "leaving initialization", t0);
@@ -1078,6 +1090,17 @@ static int allocate(me_master *M)
     M->stats->exact_jacobian = M->exact != NULL;
     /* both methods, whichever the run starts with: the automatic choice may take either */
     if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
+    if (M->exact) {
+        /* a banded pattern (a chain) is factored in O(n_x) where that beats the dense
+           O(n_x^3): a band of b diagonals costs about n_x b^2 against n_x^3 / 3 */
+        int kl, ku;
+        eng_jacobian_bandwidth(M->exact, &kl, &ku);
+        if ((double)(2 * kl + ku + 1) * (double)(kl + 1) * 3.0 < (double)M->n_x * (double)M->n_x) {
+            M->ros.banded = 1;
+            M->ros.kl = kl;
+            M->ros.ku = ku;
+        }
+    }
     mf_stiffness_reset(&M->stiff, s->method == ENG_RODAS3);
     M->dense_implicit = M->stiff.implicit;
     return 0;
@@ -1171,6 +1194,11 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
     stats->rejected = M.dopri.n_rejected + M.ros.n_rejected;
     stats->jacobians = M.ros.n_jac;
     stats->method_switches = M.stiff.switches;
+    if (M.exact) {
+        stats->jacobian_groups = eng_jacobian_groups(M.exact);
+        stats->jacobian_evaluations = eng_jacobian_evaluations(M.exact);
+    }
+    stats->jacobian_band = M.ros.banded ? M.ros.kl + M.ros.ku + 1 : 0;
     release(&M);
     return M.run;
 
