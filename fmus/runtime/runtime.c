@@ -1351,7 +1351,8 @@ static void solver_work(const mf_instance *I, long *n_rhs, long *n_rejected, lon
 {
     *n_rhs = I->solver.n_rhs + I->ros.n_rhs;
     *n_rejected = I->solver.n_rejected + I->ros.n_rejected;
-    *n_jac = I->ros.n_jac;
+    /* RODAS3's and the stiffness checks' alike: each evaluates the whole matrix */
+    *n_jac = I->ros.n_jac + I->stiff.jacobians_checked;
 }
 
 /* indicators at time t inside the last accepted step (mf_indicator_fn) */
@@ -1411,6 +1412,7 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     const mf_model *m;
     double t_end, t_window;
     long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1;
+    const long switches0 = I->stiff.switches;
     int i;
 
     if (terminate) *terminate = 0;
@@ -1568,9 +1570,9 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     if (!outputs_finite(I, fn)) goto fail;
     solver_work(I, &rhs1, &rej1, &jac1);
     log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %s: %ld steps, %ld rejected, %ld derivative "
-                            "evaluations, %ld Jacobians, %ld events", fn, t, t_end,
-             method_name(I), steps, rej1 - rej0, rhs1 - rhs0,
-             jac1 - jac0, events);
+                            "evaluations, %ld Jacobians, %ld events, %ld method switches", fn, t,
+             t_end, method_name(I), steps, rej1 - rej0, rhs1 - rhs0, jac1 - jac0, events,
+             I->stiff.switches - switches0);
     if (last_time) *last_time = t_end;
     return MF_OK;
 
