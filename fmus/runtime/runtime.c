@@ -1411,14 +1411,14 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
 {
     const mf_model *m;
     double t_end, t_window;
-    long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1;
-    const long switches0 = I->stiff.switches;
+    long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1, switches0;
     int i;
 
     if (terminate) *terminate = 0;
     if (early_return) *early_return = 0;
     if (!I) return MF_ERROR;
     m = I->m;
+    switches0 = I->stiff.switches;
     if (last_time) *last_time = I->t;
     if (I->iface != MF_CO_SIMULATION) {
         log_error(I, "%s: only for Co-Simulation; this is a Model Exchange instance", fn);

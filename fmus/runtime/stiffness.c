@@ -32,7 +32,7 @@ static const int NONSTIFF_VOTES = 6;
 /* An implicit episode pays where its steps are this many times the explicit step it
    replaced: a RODAS3 step (a Jacobian, an LU, four stages) costs at least two DOPRI5
    steps. An episode that did not pay doubles the explicit dwell needed before the next
-   switch to the implicit method (up to MAX_PENALTY doublings, 30 * 2^12 = 122880 steps),
+   switch to the implicit method (up to MAX_PENALTY doublings, 15 * 2^12 = 61,440 steps),
    so a problem where Hairer's test calls DOPRI5 stability-bound but RODAS3's
    accuracy-bound step is no longer (an undamped beam: imaginary eigenvalues up to
    (N pi)^2, where the third-order method needs shorter steps than the fifth-order one)
