@@ -22,6 +22,20 @@ N only: its build grows like N³ (minutes at N = 32).
     python -m benchmarks.beam_scaling [--quick] [--json FILE]
 
 ``--quick``: N = 4, 16, 64 (modal) and 4, 8 (assumed), T = 5 s (else T = 10 s).
+
+``--methods`` (issue 27): the benchmark scenes' beam (benchmarks.scenes beam_N*: assumed
+coordinates, the hard case, released from the static shape, w_tip(0) = 0.1 m, 2 s,
+output every 0.01 s) in the engine's ``simulate_me`` with its default method (the
+automatic choice) and with DOPRI5 and RODAS3 forced, against the C limit
+(benchmarks/c_limit.py: the same generated C under a bare DOPRI5). Each at the loosest
+tolerance 1e-4 ... 1e-12 whose largest tip error against the exact modal solution
+(benchmarks.references) is <= 1e-6 m; then process CPU time, round-robin over the
+methods, best and spread of ``--repeats``; ratios against the C limit and the automatic
+method against the better of DOPRI5 and RODAS3, within the one run. Also the default
+(modal) coordinates' default run for comparison. Targets: default <= 2x the C limit at
+every N, automatic <= 1.2x the better forced method.
+
+    python -m benchmarks.beam_scaling --methods [--sizes 4 8 16 32 64] [--repeats 5] [--json FILE]
 """
 from __future__ import annotations
 
@@ -115,12 +129,118 @@ def exponent(rows: list[dict], low: int = 4, high: int = 64) -> float:
     return float(np.polyfit(n, cost, 1)[0])
 
 
+METHOD_SIZES = (4, 8, 16, 32, 64)
+METHOD_TARGET = 1e-6
+ENGINE_METHODS = ("auto", "DOPRI5", "RODAS3")
+
+
+def _method_runners(n: int) -> tuple[dict, dict]:
+    """{method: run(tol) -> (cpu seconds, tip error, settings)} for one N."""
+    from assemblies.engine.me import simulate_me
+    from benchmarks import references
+    from benchmarks.c_limit import CLimit
+    from benchmarks.scenes import GRIDS, output_times
+    stop = GRIDS["beam"][0]
+    times = output_times("beam_N", False)
+    _, w_tip = references.beam_free_vibration(n, W_TIP0)
+    exact = w_tip(times)
+    runners = {}
+    for coordinates in ("assumed", "modal"):
+        beam = AssumedModesBeam(name="beam", basis="sine", n_modes=n, w_tip0=W_TIP0,
+                                coordinates=coordinates)
+        asm = Assembly(f"beam_N{n}")
+        asm.add("beam", beam)
+        for method in ENGINE_METHODS if coordinates == "assumed" else ("auto",):
+            def run(tol, asm=asm, method=method):
+                started = time.process_time()
+                res = simulate_me(asm, stop, GRIDS["beam"][1], tol, record=["beam.w_tip"],
+                                  method=None if method == "auto" else method)
+                cpu = time.process_time() - started
+                tip = np.asarray(res["beam.w_tip"])
+                return cpu, float(np.abs(tip - exact).max()), dict(res.settings)
+            key = method if coordinates == "assumed" else "auto (modal)"
+            runners[key] = run
+    limit = CLimit(AssumedModesBeam(name="beam", basis="sine", n_modes=n, w_tip0=W_TIP0,
+                                    coordinates="assumed"), "w_tip")
+
+    def c_limit(tol):
+        started = time.process_time()
+        values, rhs, steps = limit.column(times, tol)
+        cpu = time.process_time() - started
+        return cpu, float(np.abs(values - exact).max()), {"rhs_calls": rhs, "steps": steps}
+    runners["c_limit"] = c_limit
+    return runners
+
+
+def measure_methods(n: int, repeats: int) -> dict:
+    runners = _method_runners(n)
+    chosen = {}
+    for name, run in runners.items():
+        for tol in TOLERANCES:
+            _, error, settings = run(tol)  # also the untimed first run: plan, load
+            if error <= METHOD_TARGET:
+                chosen[name] = {"tolerance": tol, "tip_error": error,
+                                "steps": settings.get("steps"),
+                                "jacobians": settings.get("jacobians"),
+                                "method_switches": settings.get("method_switches")}
+                break
+    cpu = {name: [] for name in chosen}
+    for _ in range(repeats):  # round-robin: the machine's load falls on every method alike
+        for name in chosen:
+            cpu[name].append(runners[name](chosen[name]["tolerance"])[0])
+    for name, row in chosen.items():
+        row["cpu_s"] = min(cpu[name])
+        row["cpu_spread"] = max(cpu[name]) / max(min(cpu[name]), 1e-9)
+    limit = chosen.get("c_limit", {}).get("cpu_s")
+    better = min((chosen[m]["cpu_s"] for m in ("DOPRI5", "RODAS3") if m in chosen),
+                 default=None)
+    ratios = {}
+    if limit:
+        ratios.update({f"{m}/c_limit": chosen[m]["cpu_s"] / limit for m in chosen
+                       if m != "c_limit"})
+    if better and "auto" in chosen:
+        ratios["auto/better forced"] = chosen["auto"]["cpu_s"] / better
+    return {"N": n, "methods": chosen, "ratios": ratios}
+
+
+def main_methods(sizes, repeats: int, json_path: str | None) -> int:
+    print(f"beam_N (assumed coordinates), engine simulate_me, 2 s, tip error <= "
+          f"{METHOD_TARGET:g} m, process CPU time, best of {repeats} round-robin")
+    print(f"{'N':>3} {'method':<13} {'tol':>6} {'tip err':>8} {'steps':>7} {'jacs':>6} "
+          f"{'switch':>6} {'cpu [s]':>8} {'spread':>6} {'/c_limit':>8}")
+    rows = []
+    for n in sizes:
+        row = measure_methods(n, repeats)
+        rows.append(row)
+        limit = row["methods"].get("c_limit", {}).get("cpu_s")
+        for name, m in row["methods"].items():
+            ratio = f"{m['cpu_s'] / limit:.2f}" if limit else "-"
+            print(f"{n:>3} {name:<13} {m['tolerance']:>6.0e} {m['tip_error']:>8.1e} "
+                  f"{m['steps'] or 0:>7} {m['jacobians'] or 0:>6} {m['method_switches'] or 0:>6} "
+                  f"{m['cpu_s']:>8.4f} {m['cpu_spread']:>6.2f} {ratio:>8}", flush=True)
+        if "auto/better forced" in row["ratios"]:
+            print(f"{n:>3} automatic / better of DOPRI5, RODAS3: "
+                  f"{row['ratios']['auto/better forced']:.2f}", flush=True)
+    if json_path:
+        with open(json_path, "w") as fh:
+            json.dump({"rows": rows, "target_tip_error": METHOD_TARGET, "repeats": repeats,
+                       "clock": "process CPU time"}, fh, indent=1)
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.beam_scaling",
                                  description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer N, a shorter run")
     ap.add_argument("--json", help="write the measurements to this file")
+    ap.add_argument("--methods", action="store_true",
+                    help="default, DOPRI5, RODAS3 in simulate_me against the C limit (issue 27)")
+    ap.add_argument("--sizes", type=int, nargs="+", default=list(METHOD_SIZES),
+                    help="N for --methods")
+    ap.add_argument("--repeats", type=int, default=5, help="timed runs of each, for --methods")
     args = ap.parse_args(argv)
+    if args.methods:
+        return main_methods(args.sizes, args.repeats, args.json)
     sizes, stop = (QUICK, 5.0) if args.quick else (FULL, 10.0)
     rows = []
     print(f"beam free vibration, w_tip(0) = {W_TIP0} m, output every {STEP} s, "

@@ -80,6 +80,14 @@ struct mf_instance {
     double *dd; /* the (n_x + n_y) x (n_x + n_u) Jacobian of mf_dd, dense; its structural
                    zeros stay as calloc left them */
     double *dd_nz; /* what mf_dd returns: the nonzeros, by the model's dd_sparsity */
+    /* the point dd was evaluated at (t, x, q, u, p) and whether it was: an importer that
+       builds a Jacobian column by column (one seed per call, as FMI asks) gets all its
+       columns from one evaluation of dd, not one each (n evaluations of an n x n matrix
+       per Jacobian: 9,798 Jacobians of the beam at N = 64 in the engine took most of a
+       minute). A comparison of the point, not invalidation by every setter: the point
+       is all dd reads, so the cache cannot go stale. */
+    double *dd_at;
+    int dd_fresh;
     const double **arg;
     double **res;
     mf_int *iw;
@@ -625,10 +633,11 @@ mf_instance *mf_create(const mf_model *model, const char *fn, const char *instan
     I->g = dvec(model->n_c);
     I->dd = dvec((model->n_x + model->n_y) * (model->n_x + model->n_u));
     I->dd_nz = dvec(dd_nonzeros(model));
+    I->dd_at = dvec(1 + model->n_x + model->n_q + model->n_u + model->n_p);
     if (!I->x || !I->q || !I->p || !I->u || !I->y || !I->xdot || !I->z || !I->z_prev ||
         !I->z_shift || !I->ue ||
         !I->x_new || !I->q_new || !I->x_tmp || !I->z_work || !I->z_hit || !I->g || !I->dd ||
-        !I->dd_nz)
+        !I->dd_nz || !I->dd_at)
         goto oom;
 
     /* one set of work buffers, large enough for every model function */
@@ -676,7 +685,7 @@ void mf_free(mf_instance *I)
     free(I->name);
     free(I->x); free(I->q); free(I->p); free(I->u); free(I->y); free(I->xdot); free(I->z);
     free(I->z_prev); free(I->z_shift); free(I->ue); free(I->x_new); free(I->q_new); free(I->x_tmp);
-    free(I->z_work); free(I->z_hit); free(I->g); free(I->dd); free(I->dd_nz);
+    free(I->z_work); free(I->z_hit); free(I->g); free(I->dd); free(I->dd_nz); free(I->dd_at);
     free((void *)I->arg); free(I->res); free(I->iw); free(I->w);
     free(I);
 }
@@ -1312,7 +1321,7 @@ static mf_dopri_result solver_step(mf_instance *I, double t_end, double h_initia
     r = mf_dopri_step(&I->solver, rhs, I, &I->t, I->x, t_end, I->rtol, h_initial);
     if (r != MF_DOPRI_OK) return r;
     I->dense_implicit = 0;
-    if (automatic && (mf_stiffness_after_explicit(&I->stiff, I->solver.h_lambda)
+    if (automatic && (mf_stiffness_after_explicit(&I->stiff, I->t - t0, I->solver.h_lambda)
                       || (mf_stiffness_wants_jacobian(&I->stiff)
                           && jacobian(I, I->t, I->x, I->ros.jac) == 0
                           && mf_stiffness_explicit_check(&I->stiff, I->solver.h_guess,
@@ -1342,7 +1351,8 @@ static void solver_work(const mf_instance *I, long *n_rhs, long *n_rejected, lon
 {
     *n_rhs = I->solver.n_rhs + I->ros.n_rhs;
     *n_rejected = I->solver.n_rejected + I->ros.n_rejected;
-    *n_jac = I->ros.n_jac;
+    /* RODAS3's and the stiffness checks' alike: each evaluates the whole matrix */
+    *n_jac = I->ros.n_jac + I->stiff.jacobians_checked;
 }
 
 /* indicators at time t inside the last accepted step (mf_indicator_fn) */
@@ -1420,13 +1430,14 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
 {
     const mf_model *m;
     double t_end, t_window;
-    long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1;
+    long steps = 0, events = 0, rhs0, rej0, jac0, rhs1, rej1, jac1, switches0;
     int i;
 
     if (terminate) *terminate = 0;
     if (early_return) *early_return = 0;
     if (!I) return MF_ERROR;
     m = I->m;
+    switches0 = I->stiff.switches;
     if (last_time) *last_time = I->t;
     if (I->iface != MF_CO_SIMULATION) {
         log_error(I, "%s: only for Co-Simulation; this is a Model Exchange instance", fn);
@@ -1583,9 +1594,9 @@ mf_status mf_do_step(mf_instance *I, const char *fn, double t, double h, double 
     if (!outputs_finite(I, fn)) goto fail;
     solver_work(I, &rhs1, &rej1, &jac1);
     log_info(I, LOG_SOLVER, "%s: [%.17g, %.17g]: %s: %ld steps, %ld rejected, %ld derivative "
-                            "evaluations, %ld Jacobians, %ld events", fn, t, t_end,
-             method_name(I), steps, rej1 - rej0, rhs1 - rhs0,
-             jac1 - jac0, events);
+                            "evaluations, %ld Jacobians, %ld events, %ld method switches", fn, t,
+             t_end, method_name(I), steps, rej1 - rej0, rhs1 - rhs0, jac1 - jac0, events,
+             I->stiff.switches - switches0);
     if (last_time) *last_time = t_end;
     return MF_OK;
 
@@ -1657,6 +1668,32 @@ static double dd_entry(const mf_instance *I, int row, int col)
     return I->dd[row + (size_t)col * (size_t)(I->m->n_x + I->m->n_y)];
 }
 
+/* 1 when dd holds the Jacobian at the instance's present point; else records that
+   point, for the evaluation that follows */
+static int dd_current(mf_instance *I)
+{
+    const mf_model *m = I->m;
+    const double *u = inputs_at(I, I->t);
+    const double *parts[5];
+    int sizes[5], k, same = I->dd_fresh;
+    double *at = I->dd_at;
+    parts[0] = &I->t; sizes[0] = 1;
+    parts[1] = I->x; sizes[1] = m->n_x;
+    parts[2] = I->q; sizes[2] = m->n_q;
+    parts[3] = u; sizes[3] = m->n_u;
+    parts[4] = I->p; sizes[4] = m->n_p;
+    for (k = 0; k < 5; k++) {
+        size_t bytes = (size_t)sizes[k] * sizeof(double);
+        if (sizes[k] > 0) {
+            if (same && memcmp(at, parts[k], bytes) != 0) same = 0;
+            if (!same) memcpy(at, parts[k], bytes);
+        }
+        at += sizes[k];
+    }
+    if (!same) I->dd_fresh = 0;
+    return same;
+}
+
 mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
                                  const uint32_t unknowns[], size_t n_unknowns,
                                  const uint32_t knowns[], size_t n_knowns, const double seed[],
@@ -1690,20 +1727,34 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
             log_error(I, "%s: seed[%lu] = %g is not finite", fn, (unsigned long)j, seed[j]);
             return MF_ERROR;
         }
-    if ((m->n_x + m->n_y) * (m->n_x + m->n_u) > 0) {
+    if ((m->n_x + m->n_y) * (m->n_x + m->n_u) > 0 && !dd_current(I)) {
         if (call(I, &m->dd, I->t, I->x, I->q, inputs_at(I, I->t), I->dd_nz, NULL)) {
             log_error(I, "%s: evaluation of the Jacobian failed at t = %.17g", fn, I->t);
             return MF_ERROR;
         }
         dd_scatter(I);
+        I->dd_fresh = 1;
     }
     for (i = 0; i < n_sensitivity; i++) sensitivity[i] = 0.0;
-    for (i = 0; i < n_unknowns; i++) {
-        dd_row(I, fn, unknowns[i], &r);
+    /* only the nonzero seeds: an importer's Jacobian column seeds one known in n, and
+       the whole product would make each of its n calls O(n^2) */
+    if (adjoint) {
+        for (i = 0; i < n_unknowns; i++) {
+            if (seed[i] == 0.0) continue;
+            dd_row(I, fn, unknowns[i], &r);
+            for (j = 0; j < n_knowns; j++) {
+                dd_col(I, fn, knowns[j], &c);
+                sensitivity[j] += seed[i] * dd_entry(I, r, c);
+            }
+        }
+    } else {
         for (j = 0; j < n_knowns; j++) {
+            if (seed[j] == 0.0) continue;
             dd_col(I, fn, knowns[j], &c);
-            if (adjoint) sensitivity[j] += seed[i] * dd_entry(I, r, c);
-            else sensitivity[i] += dd_entry(I, r, c) * seed[j];
+            for (i = 0; i < n_unknowns; i++) {
+                dd_row(I, fn, unknowns[i], &r);
+                sensitivity[i] += dd_entry(I, r, c) * seed[j];
+            }
         }
     }
     for (i = 0; i < n_sensitivity; i++)
@@ -1722,7 +1773,8 @@ mf_status mf_partial_derivatives(mf_instance *I, const char *fn, int adjoint,
 #define SNAP_MAGIC 0x4d465331u /* "MFS1" */
 enum { S_T, S_TSTART, S_RTOL, S_TU, S_HGUESS, S_FACOLD, S_PHASE, S_INCHANGED, S_FAILED,
        S_METHOD, S_HGUESS_ROS, S_STIFF_IMPLICIT, S_STIFF_VOTES, S_STIFF_AGAINST, S_STIFF_SWITCHES,
-       S_STIFF_CHECK, S_DENSE_IMPLICIT, S_STOP_DEFINED, S_TSTOP, S_HEADER };
+       S_STIFF_CHECK, S_STIFF_DWELL, S_STIFF_PENALTY, S_STIFF_HEXPLICIT, S_STIFF_HSUM,
+       S_STIFF_CHECKED, S_STIFF_FRUITLESS, S_DENSE_IMPLICIT, S_STOP_DEFINED, S_TSTOP, S_HEADER };
 
 typedef struct snapshot {
     unsigned magic;
@@ -1818,6 +1870,12 @@ mf_status mf_get_state(mf_instance *I, const char *fn, void **state)
     d[S_STIFF_AGAINST] = I->stiff.against;
     d[S_STIFF_SWITCHES] = (double)I->stiff.switches;
     d[S_STIFF_CHECK] = (double)I->stiff.explicit_steps;
+    d[S_STIFF_DWELL] = (double)I->stiff.dwell;
+    d[S_STIFF_PENALTY] = I->stiff.penalty;
+    d[S_STIFF_HEXPLICIT] = I->stiff.h_explicit;
+    d[S_STIFF_HSUM] = I->stiff.implicit_h_sum;
+    d[S_STIFF_CHECKED] = (double)I->stiff.jacobians_checked;
+    d[S_STIFF_FRUITLESS] = I->stiff.fruitless;
     d[S_DENSE_IMPLICIT] = I->dense_implicit;
     d[S_STOP_DEFINED] = I->stop_defined;
     d[S_TSTOP] = I->t_stop;
@@ -1870,6 +1928,12 @@ mf_status mf_set_state(mf_instance *I, const char *fn, const void *state)
     I->stiff.against = (int)s->d[S_STIFF_AGAINST];
     I->stiff.switches = (long)s->d[S_STIFF_SWITCHES];
     I->stiff.explicit_steps = (long)s->d[S_STIFF_CHECK];
+    I->stiff.dwell = (long)s->d[S_STIFF_DWELL];
+    I->stiff.penalty = (int)s->d[S_STIFF_PENALTY];
+    I->stiff.h_explicit = s->d[S_STIFF_HEXPLICIT];
+    I->stiff.implicit_h_sum = s->d[S_STIFF_HSUM];
+    I->stiff.jacobians_checked = (long)s->d[S_STIFF_CHECKED];
+    I->stiff.fruitless = (int)s->d[S_STIFF_FRUITLESS];
     I->dense_implicit = s->d[S_DENSE_IMPLICIT] != 0.0;
     invalidate(I);
     return MF_OK;

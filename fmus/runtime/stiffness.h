@@ -21,6 +21,15 @@
  * with a margin for 6 steps in a row, the explicit method could take the
  * steps accuracy asks for, and takes over again (it is the cheaper per step, and of
  * higher order).
+ *
+ * Thrash: where Hairer's test calls DOPRI5 stability-bound but RODAS3's accuracy-bound
+ * steps are no longer (an undamped structure: imaginary eigenvalues, a third-order
+ * method against a fifth-order one), the two rules above hand the problem back and
+ * forth every few dozen steps. So each implicit episode is judged when it ends: its
+ * mean step against the explicit step it replaced. One that did not pay doubles the
+ * explicit dwell (accepted steps since the last switch) needed before the next switch
+ * to the implicit method; one that paid forgets it. The switches then number
+ * O(log steps), and the implicit steps wasted are bounded by a fixed share of them.
  */
 #ifndef MECHFMU_STIFFNESS_H
 #define MECHFMU_STIFFNESS_H
@@ -34,13 +43,19 @@ typedef struct {
     int against;    /* consecutive steps since that spoke against it */
     long switches;  /* how often the method changed, for the run's report */
     long explicit_steps; /* accepted since the last periodic check */
+    long dwell;     /* accepted steps in the current method since the last switch */
+    int penalty;    /* implicit episodes in a row that did not pay (the dwell doubles) */
+    double h_explicit;     /* the explicit step the current implicit episode replaced */
+    double implicit_h_sum; /* the episode's accepted implicit steps, summed */
+    long jacobians_checked; /* Jacobians the explicit method's checks asked for */
+    int fruitless;  /* checks since the last switch that found no stiffness (at most 3) */
 } mf_stiffness;
 
 void mf_stiffness_reset(mf_stiffness *s, int start_implicit);
 
-/* After an accepted explicit step with stiffness estimate h_lambda (mf_dopri's
+/* After an accepted explicit step of size h with stiffness estimate h_lambda (mf_dopri's
    h_lambda): 1 when the implicit method takes the next step. */
-int mf_stiffness_after_explicit(mf_stiffness *s, double h_lambda);
+int mf_stiffness_after_explicit(mf_stiffness *s, double h, double h_lambda);
 
 /* After an explicit step that voted, and every EXPLICIT_CHECK_EVERY accepted explicit
    steps: 1 when the caller should also

@@ -105,13 +105,18 @@ def test_steep_friction_is_far_cheaper_implicitly_and_both_are_right(version):
 @pytest.mark.parametrize("version", VERSIONS)
 def test_automatic_choice_is_dopri5_itself_where_nothing_is_stiff(version):
     """Seed 9.4 stick-slip (exact Coulomb, events): DOPRI5's steps are accuracy-bound, its
-    stiffness test never fires, and the automatic run repeats DOPRI5's bit for bit."""
+    stiffness test never fires, and the automatic run repeats DOPRI5's bit for bit. The
+    work it reports differs only by the periodic stiffness check's Jacobians (one per 200
+    explicit steps, counted since issue 27), none of them a RODAS3 step's."""
     block = SpringBlock(**SEED_94)
     explicit, automatic = (_run(block, version, s, 1e-8, 20.0, 0.1, {"flange_a.v": SEED_94_SPEED})
                            for s in (DOPRI5, AUTO))
-    assert explicit == automatic
+    assert explicit[:2] == automatic[:2]
+    checks = automatic[2].pop("jac")
+    explicit[2].pop("jac")
+    assert explicit[2] == automatic[2]
     if version == 3:
-        assert automatic[2]["jac"] == 0 and automatic[2]["events"] >= 2, automatic
+        assert checks <= automatic[2]["steps"] // 200 and automatic[2]["events"] >= 2, automatic
 
 
 @pytest.mark.parametrize("version", VERSIONS)

@@ -447,7 +447,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
         r = mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
         if (r == MF_DOPRI_OK) {
             M->dense_implicit = 0;
-            if (automatic && (mf_stiffness_after_explicit(&M->stiff, M->dopri.h_lambda)
+            if (automatic && (mf_stiffness_after_explicit(&M->stiff, *t - t0, M->dopri.h_lambda)
                               || (mf_stiffness_wants_jacobian(&M->stiff)
                                   && explicit_jacobian(M, *t) == 0
                                   && mf_stiffness_explicit_check(&M->stiff, M->dopri.h_guess,
@@ -1192,7 +1192,8 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
         snprintf(stats->message, sizeof stats->message, "%s", M.message);
     }
     stats->rejected = M.dopri.n_rejected + M.ros.n_rejected;
-    stats->jacobians = M.ros.n_jac;
+    /* RODAS3's and the stiffness checks' alike: each is an evaluation of the whole matrix */
+    stats->jacobians = M.ros.n_jac + M.stiff.jacobians_checked;
     stats->method_switches = M.stiff.switches;
     if (M.exact) {
         stats->jacobian_groups = eng_jacobian_groups(M.exact);
