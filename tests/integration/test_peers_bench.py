@@ -83,8 +83,7 @@ def test_peers_and_our_fixed_steps_agree_and_converge_at_first_order(tmp_path):
     grid = peers.sample_grid(stop)
     ref = peers.reference("two_block_belt", compared, grid)
     ssp = export_ssp(sc.build(), tmp_path / "belt.ssp", stop)
-    runs = peers.tools("two_block_belt", sc.build, ssp, stop, peers.SAMPLE, compared, tmp_path,
-                       sc.tolerance)
+    runs = peers.tools("two_block_belt", sc.build, ssp, stop, peers.SAMPLE, compared, tmp_path)
     errors = {}
     for k in (100, 200):
         results = {tool: runs[tool](k) for tool in peers.PEERS}
@@ -96,7 +95,7 @@ def test_peers_and_our_fixed_steps_agree_and_converge_at_first_order(tmp_path):
             assert peers.error(r["values"], results["ours fixed"]["values"]) < 1e-3 * errors[k], tool
     assert 1.7 < errors[100] / errors[200] < 2.3, errors
     # ours adaptive at a loose tolerance is within a looser error, at a tight one closer
-    loose, tight = runs[peers.OURS](1e-2), runs[peers.OURS](1e-5)
+    loose, tight = runs[peers.OURS]((1e-2, 1e-8)), runs[peers.OURS]((1e-5, 1e-10))
     assert peers.error(tight["values"], ref) < peers.error(loose["values"], ref) < 5e-2
 
 
