@@ -308,6 +308,15 @@ def search(try_run, knobs: list, target: float, budget_s: float, between=lambda 
         estimate = cost(knob, tried[-1] if tried else None)
         if estimate is not None and estimate > budget_s:
             why = f"the next step would cost ~{estimate:.0f} s CPU (over the {budget_s:g} s budget)"
+            # the finest setting short of that rung that the budget affords, once
+            last = tried[-1]
+            affordable = [k for k in between(previous, knob) if cost(k, last) <= budget_s]
+            if previous is None or not affordable:
+                break
+            knob = affordable[-1]
+            if not attempt(knob):
+                break
+            hit = len(tried) - 1
             break
         if attempt(knob):
             hit = len(tried) - 1
@@ -613,7 +622,10 @@ def main(argv=None) -> int:
                 name, SCENES[name], sorted(args.targets, reverse=True), args.repeats,
                 args.budget, Path(tmp), log=lambda s: print(s, file=sys.stderr, flush=True),
                 stop=args.stop, only=args.tools))
-    data["load_average"] = [load_before, os.getloadavg()[0]]
+            data["load_average"] = [load_before, os.getloadavg()[0]]
+            # after each scene: a long run stopped later keeps what it measured
+            Path(args.json).write_text(json.dumps(merged(data, Path(args.json)), indent=1,
+                                                  default=float) + "\n")
     print(table(data))
     data = merged(data, Path(args.json))
     Path(args.json).write_text(json.dumps(data, indent=1, default=float) + "\n")

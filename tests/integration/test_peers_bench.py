@@ -57,8 +57,15 @@ def test_the_step_search_finds_the_largest_step_within_the_target():
     assert found["reached"] and found["chosen"][0] == best_k
     assert len(tries) == len(set(tries)) < 25  # the ladder, then a bisection
 
-    # the same with a budget the ladder exhausts first: not reached, the best error said
+    # a budget the next rung (k = 2048, 2.05 s) exceeds: the finest k short of it that
+    # the budget affords is tried (1600 at 1.6 s), and met
+    found = peers.search(try_run, ladder, 1e-3, budget_s=1.7,
+                         between=lambda a, b: [k for k in every_k if a < k < b],
+                         cost=lambda k, last: None if last is None else last[2] * k / last[0])
+    assert found["reached"] and found["chosen"][0] == 1600
+    # a budget the ladder exhausts first: not reached, the best error said
     found = peers.search(try_run, ladder, 1e-3, budget_s=0.5,
+                         between=lambda a, b: [k for k in every_k if a < k < b],
                          cost=lambda k, last: None if last is None else last[2] * k / last[0])
     assert not found["reached"] and "budget" in found["why"]
     assert found["best"][1] == min(1.5 / k for k, *_ in found["tried"]) > 1e-3
