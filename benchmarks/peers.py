@@ -386,6 +386,7 @@ def measure_scene(scene_name: str, compared: list[str], targets, repeats: int,
         n = max(1, round(5 * math.log10(a[0] / b[0])))
         return [(a[0] * (b[0] / a[0]) ** (i / n), a[1]) for i in range(1, n)]
     out = {"scene": scene_name, "when": time.strftime("%Y-%m-%d %H:%M"),
+           "repeats": repeats, "budget_s": budget_s,
            "load_average_before": os.getloadavg()[0], "stop_time": stop, "sample": sample,
            "compared": compared,
            "fmus": len(sc.build().components), "ours_fmu_tolerance": sc.tolerance,
@@ -532,9 +533,8 @@ def table(data: dict) -> str:
 
 def results_section(data: dict) -> list[str]:
     out = ["## Peer co-simulation masters (issue 27)", "",
-           f"From `python -m benchmarks.peers --repeats {data['repeats']} --budget "
-           f"{data['budget_s']:g} --results` ({data['when']}, {data['machine']}, load "
-           f"{data['load_average'][0]:.1f} before, {data['load_average'][1]:.1f} after); raw: "
+           "From `python -m benchmarks.peers [--scenes …] [--repeats N] [--budget S] "
+           f"--results` ({data['machine']}; each scene's run below); raw: "
            "`benchmarks/peers.json`. The same FMI 2 CS FMUs of ours, wired by the scene's SSP, "
            "run by libcosim (libcosimpy), Ecos (ecospy), a plain Python master over fmpy's FMI "
            "calls, our engine at fixed steps (`--fixed-step`: Jacobi, zero-order hold, the "
@@ -547,10 +547,10 @@ def results_section(data: dict) -> list[str]:
            "error is within the target: the largest deviation of the bodies' positions and "
            f"velocities on a {data['sample']:g} s grid from the composite FMU at tolerance "
            "1e-12, weighed by max(1, |largest value|). CPU time (process time, every thread) "
-           f"of {data['repeats']} runs round-robin, median (range); a peer's stepping only "
+           "of N runs round-robin, median (range); a peer's stepping only "
            "(SSP loading and instantiation apart), ours the whole call. x ours: the tool's "
            "CPU time over ours (range: extremes of the repeats). A tool that cannot reach an "
-           f"error says why (a try estimated above {data['budget_s']:g} s CPU is not run) and "
+           "error says why (a try estimated above the budget of CPU seconds is not run) and "
            "the smallest error it reached.", "",
            "| " + " | ".join(HEADER) + " |", "|" + "---|" * len(HEADER)]
     out += ["| " + " | ".join(r) + " |" for r in table_rows(data)]
@@ -559,7 +559,9 @@ def results_section(data: dict) -> list[str]:
         out.append(f"- {sc['scene']}: {sc['fmus']} FMUs, 0 to {sc['stop_time']:g} s, compared "
                    f"{', '.join(sc['compared'])}; the scene's tolerance "
                    f"{sc['ours_fmu_tolerance']:g}; measured {sc.get('when', '?')}, load "
-                   f"{sc.get('load_average_before', math.nan):.1f}.")
+                   f"{sc.get('load_average_before', math.nan):.1f}, "
+                   f"{sc.get('repeats', data['repeats'])} repeats, budget "
+                   f"{sc.get('budget_s', data['budget_s']):g} s.")
     return out + [""]
 
 
@@ -567,12 +569,15 @@ def merged(data: dict, path: Path) -> dict:
     """`data` with the scenes an earlier run wrote into `path` and this one did not
     measure (each scene says when and under what load it was measured)."""
     try:
-        earlier = json.loads(path.read_text())["scenes"]
+        before = json.loads(path.read_text())
+        earlier = before["scenes"]
     except (OSError, ValueError, KeyError, TypeError):
         return data
     ran = {s["scene"] for s in data["scenes"]}
     order = list(SCENES)
-    scenes = [s for s in earlier if s.get("scene") in SCENES and s["scene"] not in ran]
+    # a kept scene keeps the settings of the run that measured it
+    scenes = [dict({k: before[k] for k in ("repeats", "budget_s") if k in before}, **s)
+              for s in earlier if s.get("scene") in SCENES and s["scene"] not in ran]
     scenes = sorted(scenes + data["scenes"], key=lambda s: order.index(s["scene"]))
     return dict(data, scenes=scenes)
 
