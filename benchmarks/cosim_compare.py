@@ -76,7 +76,7 @@ def cases() -> dict[str, tuple[Callable[[], Assembly], list[str]]]:
     }
 
 
-def _split(ref: str) -> tuple[str, str]:
+def split_ref(ref: str) -> tuple[str, str]:
     instance, _, variable = ref.partition(".")
     return instance, variable
 
@@ -101,17 +101,24 @@ def run_libcosim(ssp: Path, step: float, n_steps: int, compared: list[str]) -> d
     if not ok or status.current_time != n_steps * step_ns:
         raise RuntimeError(f"libcosim stopped at {status.current_time * 1e-9} s "
                            f"({status.error_code})")
-    final = {}
-    for ref in compared:
-        instance, variable = _split(ref)
-        index = execution.slave_index_from_instance_name(instance)
-        vr = {v.name.decode(): v.reference for v in execution.slave_variables(index)}[variable]
-        final[ref] = float(observer.last_real_values(index, [vr])[0])
+    final = dict(zip(compared, libcosim_reader(execution, observer, compared)()))
     return {"setup_s": stepping - started, "per_step_s": (done - stepping) / (n_steps - 1),
             "final": final}
 
 
-def _load_ecospy():
+def libcosim_reader(execution, observer, compared: list[str]):
+    """A call returning the `compared` outputs ('instance.variable') as libcosim's
+    last-value `observer` holds them now."""
+    where = []
+    for ref in compared:
+        instance, variable = split_ref(ref)
+        index = execution.slave_index_from_instance_name(instance)
+        vr = {v.name.decode(): v.reference for v in execution.slave_variables(index)}[variable]
+        where.append((index, vr))
+    return lambda: [float(observer.last_real_values(i, [vr])[0]) for i, vr in where]
+
+
+def load_ecospy():
     """Import ecospy; its libecosc.so needs libtbb.so.12, which the tbb wheel puts in the
     environment's lib/ (not on the loader's path): load it globally first."""
     for path in sorted(glob.glob(os.path.join(sys.prefix, "lib", "libtbb.so.12*"))):
@@ -122,7 +129,7 @@ def _load_ecospy():
 
 
 def run_ecos(ssp: Path, step: float, n_steps: int, compared: list[str]) -> dict:
-    ecospy = _load_ecospy()
+    ecospy = load_ecospy()
     ecospy.EcosLib.set_log_level("err")
     started = time.perf_counter()
     sim = ecospy.EcosSimulation(ssp_path=str(ssp), step_size=step)
@@ -134,7 +141,7 @@ def run_ecos(ssp: Path, step: float, n_steps: int, compared: list[str]) -> dict:
         reached = sim.get_time()
         if abs(reached - n_steps * step) > 1e-9 * n_steps * step:
             raise RuntimeError(f"ecos stopped at {reached} s")
-        final = {ref: float(sim.get_real("::".join(_split(ref)))) for ref in compared}
+        final = {ref: float(sim.get_real("::".join(split_ref(ref)))) for ref in compared}
     finally:
         sim.terminate()
         sim.free()
