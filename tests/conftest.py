@@ -129,3 +129,18 @@ def pythonfmu_pi():
     """The same controller built by pythonfmu (FMI 2 CS, canGetAndSetFMUstate false)."""
     from foreign_fmus import pythonfmu_pi_fmu
     return pythonfmu_pi_fmu()
+
+
+def runtime_driver(folder, driver, *runtime_files: str):
+    """A test's C driver (tests/unit/DRIVER) compiled with gcc, warnings as errors, into an
+    executable in `folder`, linked with the named sources of the FMU runtime
+    (fmus/runtime): a unit test of the runtime's C code that needs no FMU."""
+    import subprocess
+    from pathlib import Path
+    tests = Path(__file__).parent
+    runtime = tests.parent / "fmus" / "runtime"
+    exe = Path(folder) / Path(driver).stem
+    subprocess.run(["gcc", "-std=c99", "-O2", "-Wall", "-Werror", f"-I{runtime}", "-o", str(exe),
+                    str(tests / "unit" / driver), *(str(runtime / f) for f in runtime_files),
+                    "-lm"], check=True)
+    return exe

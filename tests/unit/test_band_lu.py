@@ -3,21 +3,16 @@ a small driver (band_lu.c): on random banded systems, with row swaps, it solves 
 dense LU solves, and A x = b holds."""
 import shutil
 import subprocess
-from pathlib import Path
 
 import pytest
-
-HERE = Path(__file__).parent
-RUNTIME = HERE.parent.parent / "fmus" / "runtime"
+from conftest import runtime_driver
 
 pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
 
 
 @pytest.fixture(scope="module")
 def driver(tmp_path_factory):
-    exe = tmp_path_factory.mktemp("band") / "band_lu"
-    subprocess.run(["gcc", "-std=c99", "-O2", "-Wall", "-Werror", f"-I{RUNTIME}", "-o", str(exe),
-                    str(HERE / "band_lu.c"), str(RUNTIME / "dense_lu.c"), "-lm"], check=True)
+    exe = runtime_driver(tmp_path_factory.mktemp("band"), "band_lu.c", "dense_lu.c")
 
     def run(n, kl, ku):
         out = subprocess.run([str(exe), str(n), str(kl), str(ku)], check=True,

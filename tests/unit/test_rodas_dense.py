@@ -3,22 +3,17 @@ into a small driver (rodas_dense.c) that takes one step of a given size: 3rd ord
 smooth problems, and bounded on a stiff one however large h rho is."""
 import shutil
 import subprocess
-from pathlib import Path
 
 import pytest
-
-HERE = Path(__file__).parent
-RUNTIME = HERE.parent.parent / "fmus" / "runtime"
+from conftest import runtime_driver
 
 pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
 
 
 @pytest.fixture(scope="module")
 def driver(tmp_path_factory):
-    exe = tmp_path_factory.mktemp("rodas") / "rodas_dense"
-    subprocess.run(["gcc", "-std=c99", "-O2", "-Wall", "-Werror", f"-I{RUNTIME}", "-o", str(exe),
-                    str(HERE / "rodas_dense.c"), str(RUNTIME / "solver_implicit.c"),
-                    str(RUNTIME / "dense_lu.c"), "-lm"], check=True)
+    exe = runtime_driver(tmp_path_factory.mktemp("rodas"), "rodas_dense.c",
+                         "solver_implicit.c", "dense_lu.c")
 
     def errors(*args):
         out = subprocess.run([str(exe), *map(str, args)], check=True, capture_output=True,
