@@ -10,7 +10,7 @@ The names below are imported on first use (PEP 562), so that ``import assemblies
 """
 from __future__ import annotations
 
-import importlib
+from components.lazy import lazy_exports
 
 # name -> the module that defines it
 _WHERE = {
@@ -29,13 +29,4 @@ _WHERE = {
 __all__ = sorted(_WHERE)
 
 
-def __getattr__(name: str):
-    if name not in _WHERE:
-        raise AttributeError(f"module 'assemblies' has no attribute '{name}'")
-    value = getattr(importlib.import_module(_WHERE[name], __name__), name)
-    globals()[name] = value  # once: later lookups do not come back here
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_WHERE))
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -8,7 +8,7 @@ of components.
 """
 from __future__ import annotations
 
-import importlib
+from .lazy import lazy_exports
 
 # name -> the module that defines it
 _WHERE = {
@@ -43,16 +43,5 @@ _REGISTERED = (
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 
 
-def __getattr__(name: str):
-    if name == "COMPONENTS":
-        value = {key: __getattr__(key) for key in _REGISTERED}
-    elif name in _WHERE:
-        value = getattr(importlib.import_module(_WHERE[name], __name__), name)
-    else:
-        raise AttributeError(f"module 'components' has no attribute '{name}'")
-    globals()[name] = value  # once: later lookups do not come back here
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_WHERE) | {"COMPONENTS"})
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE, {
+    "COMPONENTS": lambda: {key: __getattr__(key) for key in _REGISTERED}})

@@ -9,6 +9,8 @@ first such attribute.
 from __future__ import annotations
 
 import importlib
+import sys
+from typing import Callable
 
 
 class LazyModule:
@@ -31,3 +33,29 @@ class LazyModule:
 def lazy(name: str) -> LazyModule:
     """`name`, imported on its first attribute (see :class:`LazyModule`)."""
     return LazyModule(name)
+
+
+def lazy_exports(package: str, where: dict[str, str],
+                 computed: dict[str, Callable[[], object]] | None = None):
+    """The PEP 562 ``__getattr__`` and ``__dir__`` of `package`, whose names are imported
+    on first use: `where` maps each to the module that defines it (relative to the
+    package), `computed` maps further names to the function that makes each. A name is
+    looked up or made once, then kept in the package's namespace, so later lookups do not
+    come back here. Call it from the package's ``__init__`` (it is then in sys.modules)."""
+    computed = computed or {}
+    namespace = sys.modules[package].__dict__
+
+    def __getattr__(name: str):
+        if name in computed:
+            value = computed[name]()
+        elif name in where:
+            value = getattr(importlib.import_module(where[name], package), name)
+        else:
+            raise AttributeError(f"module '{package}' has no attribute '{name}'")
+        namespace[name] = value
+        return value
+
+    def __dir__() -> list[str]:
+        return sorted(set(namespace) | set(where) | set(computed))
+
+    return __getattr__, __dir__

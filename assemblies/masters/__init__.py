@@ -7,7 +7,7 @@ integrators (0.3 s) that a run of the compiled engine never uses.
 """
 from __future__ import annotations
 
-import importlib
+from components.lazy import lazy_exports
 
 # name -> the module that defines it
 _WHERE = {"SimulationError": ".cosim", "cosimulate": ".cosim", "simulate_me": ".me",
@@ -17,13 +17,4 @@ _WHERE = {"SimulationError": ".cosim", "cosimulate": ".cosim", "simulate_me": ".
 __all__ = sorted(_WHERE)
 
 
-def __getattr__(name: str):
-    if name not in _WHERE:
-        raise AttributeError(f"module 'assemblies.masters' has no attribute '{name}'")
-    value = getattr(importlib.import_module(_WHERE[name], __name__), name)
-    globals()[name] = value  # once: later lookups do not come back here
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_WHERE))
+__getattr__, __dir__ = lazy_exports(__name__, _WHERE)

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import importlib
 
+from components.lazy import lazy_exports
+
 from ..assembly import AssemblyError
 from ..scene_names import SCENE_INDEX
 from .scene import Figure, Scene
@@ -33,11 +35,7 @@ def _registry() -> dict[str, Scene]:
     return {name: sc for module in FAMILIES for name, sc in family(module).items()}
 
 
-def __getattr__(name: str):
-    if name != "SCENES":
-        raise AttributeError(f"module '{__name__}' has no attribute '{name}'")
-    registry = globals()["SCENES"] = _registry()  # once: later lookups do not come back
-    return registry
+__getattr__, __dir__ = lazy_exports(__name__, {}, {"SCENES": _registry})
 
 
 def scene(name: str) -> Scene:
