@@ -3,7 +3,7 @@
 A table (a numpy structured array or a pandas DataFrame with a ``time`` column, or the
 path of a CSV file with a header row, as fmpy's ``_in.csv`` files are) names in each
 other column an open input: ``<instance>.<input>``, or ``<input>`` alone in an assembly
-of one instance. Each column becomes a :class:`components.table_sources.TimeTable`
+of one instance. Each column becomes a :class:`components.sources.table.TimeTable`
 connected to that input, so the run's masters, every mode and engine and an exported
 assembly FMU, see an ordinary FMU with its own events. fmpy's rules
 (:class:`fmpy.simulation.Input`): continuous Float64 inputs interpolated linearly,
@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from components.interfaces import SIGNAL_IN, ComponentError
-from components.table_sources import MAX_ROWS, TimeTable
+from components.sources.table import MAX_ROWS, TimeTable
 
 from .assembly import Assembly, AssemblyError, Connection
 

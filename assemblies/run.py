@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from components.errors import writable_folder
-from components.table_sources import TimeTable
+from components.sources.table import TimeTable
 
 from .assembly import AssemblyError
 from .engine.cosim import DEFAULT_SCHEME as DEFAULT_COSIM

@@ -50,7 +50,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from assemblies.assembly import Assembly
-from components.beam import AssumedModesBeam
+from components.bodies.beam import AssumedModesBeam
 from fmus import build_fmu
 
 W_TIP0 = 0.1

@@ -54,8 +54,8 @@ from typing import Callable
 import numpy as np
 
 from assemblies.assembly import Assembly
-from components.sources import ConstantSpeed
-from components.translational import MassWithFriction, SpringDamper
+from components.sources.translational import ConstantSpeed
+from components.translational.elements import MassWithFriction, SpringDamper
 
 SIZES = (2, 4, 8, 16, 32, 64, 128, 256)
 # the composite FMU of the whole chain is CasADi code compiled by gcc: beyond this many

@@ -18,7 +18,7 @@ from fmpy.fmi3 import FMU3Model, FMU3Slave
 
 from assemblies.masters.monolithic import composite
 from assemblies.scenes import scene
-from components.beam import AssumedModesBeam
+from components.bodies.beam import AssumedModesBeam
 from components.dae import flatten
 
 from .runners import class_default_fmu

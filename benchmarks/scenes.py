@@ -17,7 +17,7 @@ import numpy as np
 from assemblies.assembly import Assembly
 from assemblies.masters.monolithic import composite
 from assemblies.scenes import scene
-from components.beam import AssumedModesBeam
+from components.bodies.beam import AssumedModesBeam
 
 from . import baselines, references
 from .c_limit import CLimit

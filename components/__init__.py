@@ -3,34 +3,26 @@
 ``COMPONENTS`` maps the names that ``mechfmu build`` takes to component classes.
 
 The names below are imported on first use (PEP 562): ``from components.errors import
-MechfmuError`` (every command does) loads the errors, not numpy and the twenty modules
-of components.
+MechfmuError`` (every command does) loads the errors, not numpy and the modules of
+the elements.
 """
 from __future__ import annotations
 
+from . import bodies as _bodies, rotational as _rotational, sensors as _sensors
+from . import sources as _sources, translational as _translational
 from .lazy import lazy_exports
 
-# name -> the module that defines it
+# name -> the module that defines it: the shared pieces here, the elements in the
+# subpackages laid out as MSL lays out Mechanics (each subpackage keeps its own map)
 _WHERE = {
     "Block": ".component", "Component": ".component",
     "FlatModel": ".dae", "flatten": ".dae",
     "ComponentError": ".interfaces", "Parameter": ".interfaces", "Port": ".interfaces",
     "Profile": ".interfaces", "State": ".interfaces",
-    "RigidBodyOnAxle": ".axle", "AssumedModesBeam": ".beam",
-    "NutationDamperBody": ".dissipation",
-    "ConstantForce": ".force_sources", "Force": ".force_sources",
-    "HarmonicMotion": ".motion_sources", "SineMotion": ".motion_sources",
-    "Skate": ".rigid_bodies", "TorqueFreeBody": ".rigid_bodies", "WobblingDisk": ".rigid_bodies",
-    "RollingCoin": ".rolling_coin",
-    "HemisphericalShell": ".seed_bodies", "InclinedCylinder": ".seed_bodies",
-    "RodOnRollers": ".seed_bodies",
-    "ForceSensor": ".sensors", "PositionSensor": ".sensors", "SpeedSensor": ".sensors",
-    "ConstantSpeed": ".sources", "Position": ".sources", "Speed": ".sources",
-    "SpringBlock": ".spring_block", "TimeTable": ".table_sources",
-    "Motor": ".rotational", "TorsionalSpring": ".rotational",
-    "MassWithFriction": ".translational", "Spring": ".translational",
-    "SpringDamper": ".translational",
 }
+for _package, _names in ((".translational", _translational), (".rotational", _rotational),
+                         (".bodies", _bodies), (".sources", _sources), (".sensors", _sensors)):
+    _WHERE.update({name: _package for name in _names.WHERE})
 
 # the components `mechfmu build` and `show` take, in the order `mechfmu components` lists them
 _REGISTERED = (

@@ -30,7 +30,7 @@ import numpy as np
 from assemblies import Assembly
 from assemblies.scenes.table import CoulombOnTable, HarmonicTable
 from components import ConstantSpeed, SpringBlock
-from components.motion_sources import SineMotion
+from components.sources.motion import SineMotion
 
 SHORT_SLIP = dict(U=1.0, omega=1.0, mu_s=0.999, mu_k=0.99, g=1.0)
 SHORT_SLIP_STOP = 4 * math.pi  # two table periods: four slips, each 0.31 s

@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from components.axle import RigidBodyOnAxle
+from components.bodies.axle import RigidBodyOnAxle
 
 from ..assembly import Assembly
 from ..result import Result

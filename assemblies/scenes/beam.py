@@ -11,8 +11,8 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.optimize import brentq
 
-from components.beam import AUTO, MAX_MODES, AssumedModesBeam
-from components.force_sources import ConstantForce
+from components.bodies.beam import AUTO, MAX_MODES, AssumedModesBeam
+from components.sources.force import ConstantForce
 
 from ..assembly import Assembly
 from ..result import Result

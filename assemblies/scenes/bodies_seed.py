@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 
-from components.dissipation import NutationDamperBody
-from components.rigid_bodies import WobblingDisk
-from components.seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
+from components.bodies.dissipation import NutationDamperBody
+from components.bodies.rigid_bodies import WobblingDisk
+from components.bodies.seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 
 from ..assembly import Assembly
 from ..result import Result

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from components.rigid_bodies import Skate, TorqueFreeBody
-from components.rolling_coin import (RollingCoin, critical_spin_squared, disk_inertias,
+from components.bodies.rigid_bodies import Skate, TorqueFreeBody
+from components.bodies.rolling_coin import (RollingCoin, critical_spin_squared, disk_inertias,
                                      steady_precession)
 
 from ..assembly import Assembly

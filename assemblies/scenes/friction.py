@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 
 from components import ConstantSpeed, SpringBlock
-from components.spring_block import SLIDING_AT
+from components.translational.spring_block import SLIDING_AT
 
 from ..assembly import Assembly
 from ..result import Result

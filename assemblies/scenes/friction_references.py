@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from components.spring_block import SLIDING_AT
+from components.translational.spring_block import SLIDING_AT
 
 from .references import earliest_zero
 

@@ -20,10 +20,10 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
-from components.motion_sources import SineMotion
-from components.sources import ConstantSpeed
-from components.spring_block import SpringBlock
-from components.translational import MassWithFriction, Spring
+from components.sources.motion import SineMotion
+from components.sources.translational import ConstantSpeed
+from components.translational.spring_block import SpringBlock
+from components.translational.elements import MassWithFriction, Spring
 
 from ..assembly import Assembly
 from ..result import Result

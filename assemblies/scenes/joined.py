@@ -24,11 +24,11 @@ import math
 
 import numpy as np
 
-from components.beam import AssumedModesBeam
-from components.rotational import Motor, TorsionalSpring
-from components.sources import ConstantSpeed
-from components.spring_block import SpringBlock
-from components.translational import MassWithFriction, Spring, SpringDamper
+from components.bodies.beam import AssumedModesBeam
+from components.rotational.elements import Motor, TorsionalSpring
+from components.sources.translational import ConstantSpeed
+from components.translational.spring_block import SpringBlock
+from components.translational.elements import MassWithFriction, Spring, SpringDamper
 
 from ..assembly import Assembly
 from ..result import Result

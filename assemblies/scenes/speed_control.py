@@ -18,9 +18,9 @@ import math
 
 import numpy as np
 
-from components.force_sources import Force
-from components.sensors import SpeedSensor
-from components.translational import MassWithFriction
+from components.sources.force import Force
+from components.sensors.translational import SpeedSensor
+from components.translational.elements import MassWithFriction
 
 from ..assembly import Assembly
 from ..foreign import FMU

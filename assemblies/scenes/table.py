@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from components.motion_sources import HarmonicMotion, SineMotion
-from components.sources import ConstantSpeed
-from components.spring_block import SpringBlock
+from components.sources.motion import HarmonicMotion, SineMotion
+from components.sources.translational import ConstantSpeed
+from components.translational.spring_block import SpringBlock
 
 from ..assembly import Assembly
 from ..result import Result

@@ -8,7 +8,7 @@ from scipy.integrate import quad
 
 from assemblies import cosimulate
 from assemblies.scenes.axle import AXLE_SCENES, period_from_crossings, seed_disk
-from components.axle import RigidBodyOnAxle
+from components.bodies.axle import RigidBodyOnAxle
 from fmus import build_fmu
 
 from conftest import simulate_in_fmpy

@@ -9,7 +9,7 @@ from scipy.linalg import eigh
 from assemblies.scenes.beam import BEAM_SCENES
 from assemblies.masters.cosim import cosimulate
 from assemblies.run import run_scene_full
-from components.beam import AssumedModesBeam
+from components.bodies.beam import AssumedModesBeam
 from fmus import build_fmu
 
 from conftest import simulate_in_fmpy

@@ -67,7 +67,7 @@ def test_coin_baseline_agrees_with_the_component_and_with_lagrange():
     from benchmarks.baselines import coin_derivatives
     from coin_reference import accelerations
     from components.dae import flatten
-    from components.rolling_coin import RollingCoin
+    from components.bodies.rolling_coin import RollingCoin
 
     m, R, g = 1.3, 0.7, 9.0
     model = flatten(RollingCoin(m=m, R=R, g=g))

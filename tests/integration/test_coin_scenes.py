@@ -9,8 +9,8 @@ from fmpy.validation import validate_fmu
 from assemblies import Assembly, cosimulate
 from assemblies.scenes.coin_plot import plot_coin
 from assemblies.scenes.coin import COIN_SCENES
-from components.rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
-from components.rolling_coin import RollingCoin
+from components.bodies.rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
+from components.bodies.rolling_coin import RollingCoin
 from fmus import build_fmu
 
 from conftest import simulate_in_fmpy

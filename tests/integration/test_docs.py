@@ -65,7 +65,7 @@ def test_make_docs_runs_the_same_command():
 def test_every_public_module_has_its_page_with_its_docstring(api):
     modules = public_modules()
     assert {"components", "fmus", "assemblies", "assemblies.run", "fmus.build",
-            "assemblies.engine", "components.spring_block"} <= set(modules)
+            "assemblies.engine", "components.translational.spring_block"} <= set(modules)
     assert not any("._" in m for m in modules)
     for module in modules:
         path = ROOT / module.replace(".", "/")
@@ -82,9 +82,9 @@ def test_every_public_module_has_its_page_with_its_docstring(api):
 def test_the_functions_a_user_calls_are_documented(api):
     """The members, not only the modules: the run functions and a component class."""
     from assemblies.run import run_scene
-    from components.spring_block import SpringBlock
+    from components.translational.spring_block import SpringBlock
     from fmus.build import build_fmu
     for page, obj in (("assemblies/run.html", run_scene), ("fmus/build.html", build_fmu),
-                      ("components/spring_block.html", SpringBlock)):
+                      ("components/translational/spring_block.html", SpringBlock)):
         text = page_text(api / page)
         assert obj.__name__ in text and first_line(obj.__doc__) in text, (page, obj.__name__)

@@ -21,7 +21,7 @@ from assemblies.run import run_scene_full
 from assemblies.scenes import scene
 from assemblies.scenes.table import PERIOD
 from components import ConstantSpeed, SpringBlock
-from components.motion_sources import SineMotion
+from components.sources.motion import SineMotion
 
 from conftest import SEED_94, SEED_94_SPEED, coulomb_drag_reference, exact_friction_damping
 

@@ -101,7 +101,7 @@ def test_setting_the_time_recomputes_what_depends_on_it():
     """Setting the time alone keeps what a time-invariant model computed (the runtime
     skips that work, model.h time_invariant); a model written in terms of time must see
     each new time at once, even with its states unchanged."""
-    from components.motion_sources import SineMotion
+    from components.sources.motion import SineMotion
     fmu, vr = _me_instance(SineMotion(name="drive"))  # U = 0.1, omega = 20
     for t in (0.3, 0.7, 0.7, 0.05):
         fmu.setTime(t)
@@ -124,7 +124,7 @@ def test_setting_the_time_recomputes_what_depends_on_it():
 
 
 def test_the_generated_model_says_whether_time_appears():
-    from components.motion_sources import SineMotion
+    from components.sources.motion import SineMotion
     from fmus.codegen import generate_c
     from components.dae import flatten
     for component, invariant in ((SineMotion(name="drive"), 0), (_Scaled(), 1)):

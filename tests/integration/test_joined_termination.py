@@ -11,7 +11,7 @@ from assemblies.engine.me import simulate_me, simulate_monolithic
 from assemblies.masters.monolithic import composite, simulate_monolithic as python_monolithic
 from assemblies.run import run_scene_full
 from components.dae import flatten
-from components.seed_bodies import RodOnRollers
+from components.bodies.seed_bodies import RodOnRollers
 
 from conftest import drop_component
 

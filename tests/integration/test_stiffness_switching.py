@@ -23,7 +23,7 @@ import numpy as np
 from assemblies.assembly import Assembly
 from assemblies.engine.me import simulate_me
 from benchmarks import references
-from components.beam import AssumedModesBeam
+from components.bodies.beam import AssumedModesBeam
 from cs_slave import initialize, open_slave
 
 N, TOL, STOP, STEP, W_TIP0 = 16, 1e-5, 2.0, 0.01, 0.1

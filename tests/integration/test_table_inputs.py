@@ -18,7 +18,7 @@ from assemblies import Assembly, AssemblyError
 from assemblies import engine as C
 from assemblies import masters as P
 from components import PositionSensor, Speed
-from components.table_sources import TimeTable
+from components.sources.table import TimeTable
 
 F_CRIT = 1.0
 W = 2 * math.pi * F_CRIT
@@ -181,7 +181,7 @@ def test_a_table_is_checked_as_input():
     with pytest.raises(AssemblyError, match=r"no 'time' column; columns: t, src\.v_ref"):
         C.simulate_me(asm, 1.0, 0.1, inputs=np.zeros(2, dtype=[("t", float),
                                                                 ("src.v_ref", float)]))
-    from components.table_sources import MAX_ROWS
+    from components.sources.table import MAX_ROWS
     many = np.zeros(MAX_ROWS + 1, dtype=[("time", float), ("src.v_ref", float)])
     many["time"] = np.arange(MAX_ROWS + 1)
     with pytest.raises(AssemblyError, match=rf"{MAX_ROWS + 1} rows; a table has 1 to {MAX_ROWS}"):

@@ -7,7 +7,7 @@ from scipy.optimize import minimize_scalar
 from scipy.spatial.transform import Rotation
 
 from components import ComponentError, flatten
-from components.axle import RigidBodyOnAxle
+from components.bodies.axle import RigidBodyOnAxle
 
 K = np.array([0.0, 0.0, 1.0])
 

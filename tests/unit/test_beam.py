@@ -8,9 +8,9 @@ from scipy.linalg import eigh
 from scipy.optimize import brentq
 
 from components import ComponentError, flatten
-from components.beam import AssumedModesBeam
-from components.beam_shapes import shape_basis
-from components.force_sources import ConstantForce
+from components.bodies.beam import AssumedModesBeam
+from components.bodies.beam_shapes import shape_basis
+from components.sources.force import ConstantForce
 from fmus import build_fmu
 
 # literature values of (βL)² for the clamped-free beam, as the issue quotes them

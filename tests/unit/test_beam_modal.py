@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 from scipy.linalg import eigh
 
 from components import flatten
-from components.beam import AssumedModesBeam
+from components.bodies.beam import AssumedModesBeam
 from fmus import build_fmu
 from fmus.codegen import directional_jacobian
 

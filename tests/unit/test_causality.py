@@ -5,7 +5,7 @@ from assemblies import Assembly, AssemblyError
 from components import (AssumedModesBeam, Component, ConstantForce, ConstantSpeed, RigidBodyOnAxle,
                         SpringBlock)
 from components.interfaces import FIXED, FORCE_IN, MOTION_IN, TRANSLATIONAL, Port, Profile
-from components.motion_sources import SineMotion
+from components.sources.motion import SineMotion
 
 
 class TwoPorts(Component):

@@ -40,7 +40,7 @@ def test_run_help_lists_every_scene(capsys):
 def test_show_lists_parameters_with_unit_default_range_and_meaning(capsys):
     assert main(["show", "SpringBlock"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    # SpringBlock's declarations (components/spring_block.py): m > 0 kg, default 1;
+    # SpringBlock's declarations (components/translational/spring_block.py): m > 0 kg, default 1;
     # mu_s >= 0, default 0.4, no unit; the friction option's three laws; both profiles
     assert lines[0].startswith("SpringBlock: Block on a")
     m = next(line.split() for line in lines if line.split()[:1] == ["m"])

@@ -18,7 +18,7 @@ def test_a_foreign_fmus_columns_get_the_units_its_model_description_declares():
     none gets those its units= gives, and nothing else."""
     from assemblies import Assembly
     from assemblies.foreign import FMU
-    from components.spring_block import SpringBlock
+    from components.translational.spring_block import SpringBlock
     from fmus import build_fmu
     from handmade_fmus import handmade_fmu
 

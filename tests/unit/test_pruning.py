@@ -6,8 +6,8 @@ from __future__ import annotations
 from assemblies import Assembly
 from assemblies.pruning import needed_instances, prune_unrecorded
 from components import ConstantSpeed, SpringBlock
-from components.sensors import PositionSensor
-from components.sources import Position
+from components.sensors.translational import PositionSensor
+from components.sources.translational import Position
 from conftest import drop_component
 
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from components import ComponentError
-from components.rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
+from components.bodies.rigid_bodies import Skate, TorqueFreeBody, WobblingDisk
 
 from conftest import simulate_in_fmpy
 

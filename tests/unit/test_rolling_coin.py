@@ -8,7 +8,7 @@ import pytest
 
 from components import ComponentError
 from components.dae import flatten
-from components.rolling_coin import RollingCoin, rotation_313
+from components.bodies.rolling_coin import RollingCoin, rotation_313
 
 from coin_reference import accelerations, energy, jacobian_complex_step
 

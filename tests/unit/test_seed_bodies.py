@@ -7,7 +7,7 @@ from fmpy.validation import validate_fmu
 
 from assemblies.scenes.axle import period_from_crossings
 from components import ComponentError, flatten
-from components.seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
+from components.bodies.seed_bodies import HemisphericalShell, InclinedCylinder, RodOnRollers
 from fmus import build_fmu
 
 from conftest import simulate_in_fmpy

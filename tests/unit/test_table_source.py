@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from components import ComponentError, TimeTable, flatten
-from components.table_sources import MAX_ROWS, capacity
+from components.sources.table import MAX_ROWS, capacity
 
 ROWS = [(0.5, 0.2), (1.0, 1.0), (1.0, 3.0), (2.0, 3.0), (2.5, -1.0), (3.0, 0.5)]
 

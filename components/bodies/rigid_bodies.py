@@ -1,9 +1,9 @@
 """Free 3-D rigid bodies and the skate of Chatterjee, Intermediate Dynamics: 8.3, 8.4 and 5.5."""
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import Constraint, Parameter, Profile, State
-from .lazy import lazy
+from ..component import Component
+from ..interfaces import Constraint, Parameter, Profile, State
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

@@ -1,8 +1,8 @@
 """Force sources: flanges that push on whatever they are connected to, however it moves."""
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import MOTION_IN, SIGNAL_IN, TRANSLATIONAL, Parameter, Port, Profile, signal
+from ..component import Component
+from ..interfaces import MOTION_IN, SIGNAL_IN, TRANSLATIONAL, Parameter, Port, Profile, signal
 
 
 class ConstantForce(Component):

@@ -1,9 +1,9 @@
 """Three one-degree-of-freedom bodies from Chatterjee, Intermediate Dynamics: 8.1, 8.2 and 9.6."""
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import Constraint, Option, Parameter, Profile, State
-from .lazy import lazy
+from ..component import Component
+from ..interfaces import Constraint, Option, Parameter, Profile, State
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

@@ -8,8 +8,8 @@ one side to the other and the force back, whichever side computes the motion.
 """
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import (FORCE_IN, MOTION_IN, SIGNAL_OUT, TRANSLATIONAL, Port, Profile,
+from ..component import Component
+from ..interfaces import (FORCE_IN, MOTION_IN, SIGNAL_OUT, TRANSLATIONAL, Port, Profile,
                          signal)
 
 

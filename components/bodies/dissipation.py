@@ -1,10 +1,10 @@
 """Seed 8.3.1's closing remark made a component: a torque-free body that loses energy inside."""
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import Parameter, State
+from ..component import Component
+from ..interfaces import Parameter, State
 from .rigid_bodies import ATTITUDE, FREE, PRINCIPAL_INERTIAS, quaternion_rotation
-from .lazy import lazy
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

@@ -1,6 +1,6 @@
 """Kinematic sources along periodic paths: a table shaken sinusoidally (seed 9.6).
 
-Like :class:`components.sources.ConstantSpeed`, the flange's motion is prescribed
+Like :class:`components.sources.translational.ConstantSpeed`, the flange's motion is prescribed
 (``force`` causality: s, v, a out; the force it takes to move it in, reported only).
 The velocity and acceleration are the exact derivatives of the path, so a connected
 component that extrapolates its motion inputs with them sees the true path to
@@ -8,9 +8,9 @@ second order.
 """
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import FORCE_IN, TRANSLATIONAL, Parameter, Port, Profile
-from .lazy import lazy
+from ..component import Component
+from ..interfaces import FORCE_IN, TRANSLATIONAL, Parameter, Port, Profile
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

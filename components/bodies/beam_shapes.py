@@ -20,7 +20,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-from .lazy import lazy
+from ..lazy import lazy
 
 np = lazy("numpy")  # loaded by the first array: listing the components needs none
 

@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import math
 
-from .component import Component
-from .interfaces import (SIGNAL_OUT, ComponentError, Constraint, Mode, Option, Parameter, Port,
+from ..component import Component
+from ..interfaces import (SIGNAL_OUT, ComponentError, Constraint, Mode, Option, Parameter, Port,
                          Profile, signal)
-from .lazy import lazy
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 np = lazy("numpy")  # loaded by the first array: listing the components needs none

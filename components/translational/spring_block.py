@@ -1,11 +1,11 @@
 """The spring-block with dry friction of Chatterjee, Intermediate Dynamics, 9.2–9.6."""
 from __future__ import annotations
 
-from .component import Component
-from .friction import coulomb_modes
-from .interfaces import (FIXED, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Option, Parameter,
+from ..component import Component
+from ..friction import coulomb_modes
+from ..interfaces import (FIXED, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Option, Parameter,
                          Port, Profile, State)
-from .lazy import lazy
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

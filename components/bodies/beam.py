@@ -5,10 +5,10 @@ import math
 from types import SimpleNamespace
 
 from .beam_shapes import BASES, basis_names, modal_basis, shape_basis
-from .component import Component
-from .interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Mode, Option, Parameter,
+from ..component import Component
+from ..interfaces import (FORCE_IN, TRANSLATIONAL, ComponentError, Mode, Option, Parameter,
                          Port, Profile, State)
-from .lazy import lazy
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 np = lazy("numpy")  # loaded by the first array: listing the components needs none
@@ -113,7 +113,7 @@ class AssumedModesBeam(Component):
         16   17      1.069e-03   2.775e-03   1.438e-03   1.030e-03
         32   33      5.525e-04   1.424e-03   6.338e-04   3.840e-04
 
-    Reproduce: ``python -m components.beam``. The error falls like 1/N: with w = ξ h(ξ),
+    Reproduce: ``python -m components.bodies.beam``. The error falls like 1/N: with w = ξ h(ξ),
     the sine series of h - a0 ξ has coefficients ~ 1/k³ (its odd extension's h'' jumps),
     so the strain energy of the truncated tail, and with it the error, is ~ Σ_{k>N} 1/k².
     """
@@ -170,7 +170,7 @@ class AssumedModesBeam(Component):
         return shape_basis(self.option("basis"), MAX_MODES if n == AUTO else n)
 
     def modal(self):
-        """The bare cantilever's modes of basis() (components.beam_shapes.ModalBasis)."""
+        """The bare cantilever's modes of basis() (components.bodies.beam_shapes.ModalBasis)."""
         n = self.option("n_modes")
         return modal_basis(self.option("basis"), MAX_MODES if n == AUTO else n)
 
@@ -421,7 +421,7 @@ class AssumedModesBeam(Component):
         for n in b.names:
             e.residual(getattr(e.der, n) - getattr(e.x, f"{n}_dot"))
         # M a'' + (alpha M + beta K + zeta C_modal) a' + K a = φ f, premultiplied by M⁻¹ so
-        # that the matrices are numbers (see components.beam_shapes); K acts on a + beta a'
+        # that the matrices are numbers (see components.bodies.beam_shapes); K acts on a + beta a'
         strained = a + p.beta * a_dot
         e.residual(a_ddot + omega0_sq * ca.mtimes(ca.DM(b.stiffness_per_mass), strained)
                    + p.k_tip / p.m * g * ca.dot(phi, strained) + p.alpha * a_dot

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import math
 
-from .component import Component
-from .interfaces import Constraint, Parameter, Profile, State
-from .lazy import lazy
+from ..component import Component
+from ..interfaces import Constraint, Parameter, Profile, State
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

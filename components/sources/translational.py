@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import math
 
-from .component import Component
-from .interfaces import (FORCE_IN, SIGNAL_IN, TRANSLATIONAL, Parameter, Port, Profile, State,
+from ..component import Component
+from ..interfaces import (FORCE_IN, SIGNAL_IN, TRANSLATIONAL, Parameter, Port, Profile, State,
                          signal)
 
 

@@ -1,9 +1,9 @@
 """MSL-style rotational elements for joining scenes: a torsional spring and a DC motor."""
 from __future__ import annotations
 
-from .component import Component
-from .interfaces import FORCE_IN, MOTION_IN, ROTATIONAL, Parameter, Port, Profile, State
-from .lazy import lazy
+from ..component import Component
+from ..interfaces import FORCE_IN, MOTION_IN, ROTATIONAL, Parameter, Port, Profile, State
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 

@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import math
 
-from .component import Component
-from .friction import coulomb_modes
-from .interfaces import (FORCE_IN, MOTION_IN, ROTATIONAL, ComponentError, Constraint, Mode,
+from ..component import Component
+from ..friction import coulomb_modes
+from ..interfaces import (FORCE_IN, MOTION_IN, ROTATIONAL, ComponentError, Constraint, Mode,
                          Option, Parameter, Port, Profile, State)
-from .lazy import lazy
+from ..lazy import lazy
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 np = lazy("numpy")  # loaded by the first array: listing the components needs none

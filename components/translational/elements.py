@@ -5,13 +5,13 @@ the motion in and give the force out (``motion`` causality), so they sit between
 components that compute motion. ``MassWithFriction`` is the counterpart that computes
 motion: both its flanges take the force in and give s, v, a out (MSL's *direct*
 mass), and it rides on a ``support`` (ground or a moving belt) with exact Coulomb
-stick/slip modes, the mode machine of :class:`components.spring_block.SpringBlock`.
+stick/slip modes, the mode machine of :class:`components.translational.spring_block.SpringBlock`.
 """
 from __future__ import annotations
 
-from .component import Component
-from .friction import coulomb_modes
-from .interfaces import (FIXED, FORCE_IN, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Parameter,
+from ..component import Component
+from ..friction import coulomb_modes
+from ..interfaces import (FIXED, FORCE_IN, MOTION_IN, TRANSLATIONAL, Constraint, Mode, Parameter,
                          Port, Profile, State)
 
 _COMPLIANT_PORTS = (Port("flange_a", TRANSLATIONAL, "left end"),

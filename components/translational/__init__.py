@@ -1,0 +1,19 @@
+"""Translational elements (MSL ``Modelica.Mechanics.Translational.Components``): springs,
+dampers, masses with friction and the seed's spring-block.
+
+Names are imported on first use (PEP 562), like the top-level ``components``.
+"""
+from __future__ import annotations
+
+from ..lazy import lazy_exports
+
+# name -> the module that defines it
+WHERE = {
+    "MassWithFriction": ".elements",
+    "Spring": ".elements",
+    "SpringDamper": ".elements",
+    "SpringBlock": ".spring_block",
+}
+
+__all__ = sorted(WHERE)
+__getattr__, __dir__ = lazy_exports(__name__, WHERE)
