@@ -84,5 +84,17 @@ SCENE_INDEX = {
     'nutation_damper': ('bodies_seed',
         'seed 8.3.1: spun about its minor axis, a body with a viscous damper inside ends '
         'spinning about its major axis'),
+    'cone_incline': ('bodies_exercises',
+        'seed 8.6 ex. 2: a uniform cone rolls without slip on an incline, rocking about '
+        'its fixed apex'),
+    'wobble_exercise': ('bodies_exercises',
+        'seed 8.6 ex. 3: the disk from phi = 1.0, theta = 1.3, psi = -0.4 spun about its '
+        'axis, nudged: it wobbles at twice its spin'),
+    'axle_inertia': ('bodies_exercises',
+        "seed 8.6 ex. 4: a body's inertia matrix recovered from its periods on six axles "
+        '(section 8.5 turned round)'),
+    'string_body': ('bodies_exercises',
+        'seed 8.6 ex. 5: a box hung from a point on its surface by a damped elastic '
+        'string: energy falls, not to zero; vertical H about the support kept'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

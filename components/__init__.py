@@ -28,7 +28,8 @@ for _package, _names in ((".translational", _translational), (".rotational", _ro
 _REGISTERED = (
     "SpringBlock", "ConstantSpeed", "SineMotion", "HarmonicMotion", "ConstantForce",
     "AssumedModesBeam", "RigidBodyOnAxle", "InclinedCylinder", "HemisphericalShell",
-    "RodOnRollers", "RollingCoin", "TorqueFreeBody", "NutationDamperBody", "WobblingDisk",
+    "RodOnRollers", "ConeOnIncline", "RollingCoin", "TorqueFreeBody", "NutationDamperBody",
+    "WobblingDisk", "RigidBodyOnString",
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable")
 
