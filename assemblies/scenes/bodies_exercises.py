@@ -58,7 +58,8 @@ def _cone_figures(result: Result, asm: Assembly) -> list[Figure]:
     amplitude = abs(s["phi"]) if s["w"] == 0 else math.nan  # released from rest
     t, phi, w, E = result["time"], result["cone.phi"], result["cone.w"], result["cone.E"]
     measured = float(period_from_crossings(t, phi, w))
-    period = float(pendulum_period(omega0, amplitude))
+    # on a level plane (alpha = 0) nothing restores it: no period to compare
+    period = float(pendulum_period(omega0, amplitude)) if omega0 > 0 else math.nan
     crossing = _crossing_error(omega0, result.settings["step"])
     shift = amplitude**2 / 16  # a pendulum's period grows by amplitude^2 / 16 (Lindstedt)
     sin_b = p["R"] / p["h"]

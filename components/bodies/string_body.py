@@ -49,16 +49,18 @@ class RigidBodyOnString(Component):
     )
     constraints = PRINCIPAL_INERTIAS
     states = (
-        State("x", 0.1, "m", "G from the support, ground X"),
-        State("y", 0.0, "m", "G from the support, ground Y"),
-        State("z", -1.2, "m", "G from the support, ground Z (up)"),
+        # B 10 cm off the vertical, the string near its static stretch: it swings and
+        # spins but stays taut
+        State("x", -0.1, "m", "G from the support, ground X"),
+        State("y", -0.06, "m", "G from the support, ground Y"),
+        State("z", -1.01, "m", "G from the support, ground Z (up)"),
         State("v_x", 0.0, "m/s", "velocity of G, X"),
         State("v_y", 0.0, "m/s", "velocity of G, Y"),
         State("v_z", 0.0, "m/s", "velocity of G, Z"),
         *ATTITUDE,
         State("w_x", 0.0, "rad/s", "angular velocity about body x"),
         State("w_y", 0.0, "rad/s", "angular velocity about body y"),
-        State("w_z", 0.0, "rad/s", "angular velocity about body z"),
+        State("w_z", 1.0, "rad/s", "angular velocity about body z"),
         State("W_d", 0.0, "J", "work the string's damping has taken out"),
     )
     profiles = FREE
