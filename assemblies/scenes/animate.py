@@ -176,6 +176,28 @@ def _axle_body(result: Result, name: str, component) -> Pose:
     return Pose([_carry(R, G, o) for o in outline], G, size, [axle, arm])
 
 
+def _rot_y(a: np.ndarray) -> np.ndarray:
+    c, s, o, z = np.cos(a), np.sin(a), np.ones_like(a), np.zeros_like(a)
+    rows = (np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1))
+    return np.stack(rows, -2)
+
+
+def _cone(result: Result, name: str, component) -> Pose:
+    """ConeOnIncline, in the incline's axes (x down the slope, z its normal, the plane
+    z = 0): Q = Rz(phi) Ry(-beta) Rx(-phi / sin(beta)), the apex at the origin; the base
+    rim, slant lines from the apex to it and G's path."""
+    p = component.values
+    sin_b = p["R"] / p["h"]
+    H = p["h"] * math.sqrt(1 - sin_b**2)
+    phi = result[f"{name}.phi"]
+    Q = _rot_z(phi) @ _rot_y(np.full_like(phi, -math.asin(sin_b))) @ _rot_x(-phi / sin_b)
+    origin = np.zeros((len(phi), 3))
+    rim = circle(p["R"], 0) + np.array([H, 0.0, 0.0])
+    slants = [np.array([[0.0, 0.0, 0.0], rim[k]]) for k in range(0, CIRCLE, CIRCLE // 4)]
+    G = _carry(Q, origin, np.array([[3 * H / 4, 0.0, 0.0]]))[:, 0]
+    return Pose([_carry(Q, origin, o) for o in (rim, *slants)], G, p["h"])
+
+
 # component class name -> (the outputs its drawer reads, the drawer)
 DRAWERS = {
     "WobblingDisk": (("phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot"), _disk),
@@ -185,6 +207,7 @@ DRAWERS = {
     "RigidBodyOnString": (("x", "y", "z", "B_X", "B_Y", "B_Z",
                            *(f"{b}_{a}" for b in "xyz" for a in "XYZ")), _string_body),
     "RigidBodyOnAxle": (("theta",), _axle_body),
+    "ConeOnIncline": (("phi",), _cone),
 }
 
 
@@ -203,7 +226,7 @@ def animation_record(scene) -> list[str] | None:
             f"scene '{scene.name}' has no body to animate; --animate draws "
             f"{', '.join(sorted(DRAWERS))} (scenes: wobbling_disk, thrown_disk, "
             "wobble_exercise, nutation_damper, string_body, axle_pendulum, axle_inertia, "
-            "coin_rolling and the other coin scenes)")
+            "cone_incline, coin_rolling and the other coin scenes)")
     if scene.record is None:
         return None
     extra = [f"{name}.{k}" for name, (_, needs, _) in found.items() for k in needs]

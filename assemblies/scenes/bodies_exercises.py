@@ -70,7 +70,7 @@ def _cone_figures(result: Result, asm: Assembly) -> list[Figure]:
                measured, period, solver_accuracy(result, period) + period * crossing),
         Figure("omega0", "linear frequency [rad/s] from the period x T(A)/T(0) vs "
                "sqrt(5 g h sin(alpha) / (6 h^2 - 5 R^2))",
-               2 * math.pi / measured * period * omega0 / (2 * math.pi), omega0,
+               omega0 * period / measured, omega0,
                solver_accuracy(result, omega0) + omega0 * crossing),
         Figure("omega_A", f"frequency at the amplitude [rad/s] vs the linear one (amplitude "
                f"shift {-shift:+.1e})", 2 * math.pi / measured, omega0,
@@ -179,7 +179,7 @@ def recover_inertia(m: float, g: float, r: np.ndarray, directions, periods,
     k = np.array([0.0, 0.0, 1.0])
     values = []
     for n, T, A in zip(map(_unit, directions), periods, amplitudes):
-        omega0 = 2 * math.pi / T * pendulum_period(1.0, A) / (2 * math.pi)
+        omega0 = pendulum_period(1.0, A) / T  # 4 K(sin(A/2)) / T
         r_perp = np.linalg.norm(r - (r @ n) * n)
         k_perp = np.linalg.norm(k - (k @ n) * n)
         values.append(m * g * k_perp * r_perp / omega0**2 - m * r_perp**2)
@@ -193,14 +193,15 @@ def _axle_inertia_figures(result: Result, asm: Assembly) -> list[Figure]:
     r = np.array([p["r_x"], p["r_y"], p["r_z"]])
     directions = [(b.values["n_x"], b.values["n_y"], b.values["n_z"]) for b in bodies]
     t, periods, amplitudes, slack = result["time"], [], [], []
-    for name, body in zip(names, bodies):
+    for name, body, n in zip(names, bodies, directions):
         theta, omega = result[f"{name}.theta"], result[f"{name}.omega"]
-        hang = hanging_angle(_unit(directions[len(periods)]), r)
+        hang = hanging_angle(_unit(n), r)
         periods.append(float(period_from_crossings(t, theta - hang, omega)))
         amplitudes.append(abs(body.starts["theta"] - hang))
         # J_n = V'' T^2 / (2 pi K-factor)^2: twice the period's relative error
         w = 2 * math.pi / periods[-1]
-        slack.append(2 * (solver_accuracy(result, 1.0) + _crossing_error(w, result.settings["step"])))
+        slack.append(2 * (solver_accuracy(result, 1.0)
+                          + _crossing_error(w, result.settings["step"])))
     I = recover_inertia(p["m"], p["g"], r, directions, periods, amplitudes)
     rows = inertia_rows(directions)
     # each n^T I n is off by at most slack x J_n; the solve spreads that by |rows^-1|

@@ -464,5 +464,5 @@ SEED_BODY_SCENES: dict[str, Scene] = {
         "nutation decay rate"),
 }
 
-__all__ = ["SEED_BODY_SCENES", "cone_angle", "disk_angular_momentum", "disk_attitude", "nutation_decay_rate",
-           "shell_amplitude_shift", "shell_period"]
+__all__ = ["SEED_BODY_SCENES", "cone_angle", "disk_angular_momentum", "disk_attitude",
+           "nutation_decay_rate", "shell_amplitude_shift", "shell_period"]

@@ -101,3 +101,20 @@ def test_command_line_mp4_without_ffmpeg_or_other_scene_fails_cleanly(tmp_path, 
                  "--animate", str(tmp_path / "x.mp4")]) == 2
     err = capsys.readouterr().err
     assert "ffmpeg" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_cone_touches_its_incline_and_keeps_its_apex():
+    """The drawn cone rests on the plane z = 0: its base circle's lowest point (centre c,
+    axis a from the apex: c_z - R sqrt(1 - a_z^2)) is on it at every frame, nothing of
+    it is below, the apex stays at the origin and every slant is h long."""
+    _, asm, poses = _poses("cone_incline")
+    p = asm.component("cone").values
+    rim, *slants = poses["cone"].outlines
+    centre = rim[:, :-1].mean(axis=1)
+    a = centre / np.linalg.norm(centre, axis=1)[:, None]
+    np.testing.assert_allclose(centre[:, 2] - p["R"] * np.sqrt(1 - a[:, 2] ** 2), 0.0,
+                               atol=1e-12)
+    assert rim[:, :, 2].min() > -1e-12
+    for s in slants:
+        np.testing.assert_allclose(s[:, 0], 0.0, atol=1e-15)
+        np.testing.assert_allclose(np.linalg.norm(s[:, 1], axis=1), p["h"], rtol=1e-12)
