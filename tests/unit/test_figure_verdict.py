@@ -67,3 +67,13 @@ def test_all_pass_is_said_too():
     assert run.passed and run.summary()["passed"] is True
     assert run.table().splitlines()[-1] == "all 2 figures pass"
     assert run.table(verdict=False).splitlines()[-1].startswith("stop time 300 s")
+
+
+def test_each_figure_names_its_source_in_the_table_and_the_summary():
+    run = _run([Figure("t1", "slip time [s]", 8.0, 8.0, 1e-8, source="seed Eq. 9.5"),
+                Figure("t2", "re-stick [s]", 12.0689, 12.0689, 1e-8)])
+    lines = run.table().splitlines()
+    assert lines[1].endswith("slip time [s]; source: seed Eq. 9.5")
+    # unnamed, it says so rather than passing silently as the seed's
+    assert lines[2].endswith("re-stick [s]; source: not stated")
+    assert [f["source"] for f in run.summary()["figures"]] == ["seed Eq. 9.5", ""]
