@@ -67,20 +67,25 @@ def _cone_figures(result: Result, asm: Assembly) -> list[Figure]:
     z_G = 3 * H / 4 * sin_b
     return [
         Figure("T", "period [s] from zero crossings vs the pendulum's 4K(sin(A/2))/omega0",
-               measured, period, solver_accuracy(result, period) + period * crossing),
+               measured, period, solver_accuracy(result, period) + period * crossing,
+               source="closed form derived here (cone_frequency) and the pendulum's exact "
+               "period"),
         Figure("omega0", "linear frequency [rad/s] from the period x T(A)/T(0) vs "
                "sqrt(5 g h sin(alpha) / (6 h^2 - 5 R^2))",
                omega0 * period / measured, omega0,
-               solver_accuracy(result, omega0) + omega0 * crossing),
+               solver_accuracy(result, omega0) + omega0 * crossing,
+               source="closed form derived here for seed 8.6 ex. 2 (energy about the apex)"),
         Figure("omega_A", f"frequency at the amplitude [rad/s] vs the linear one (amplitude "
                f"shift {-shift:+.1e})", 2 * math.pi / measured, omega0,
-               shift + 2 * shift**2 + solver_accuracy(result, 1.0), relative=True),
+               shift + 2 * shift**2 + solver_accuracy(result, 1.0), relative=True,
+               source="closed form derived here, with Lindstedt's amplitude shift"),
         Figure("z_G", "largest |z_G - (3H/4) sin(beta)| [m] (G's height: constant)",
                float(np.abs(result["cone.z_G"] - z_G).max()), 0.0,
-               solver_accuracy(result, p["h"])),
+               solver_accuracy(result, p["h"]), source="geometry of the cone on its side"),
         Figure("E_drift", "largest |E - E(0)| [J] (rolling does no work: 0)",
                float(np.abs(E - E[0]).max()), 0.0,
-               solver_accuracy(result, p["m"] * p["g"] * p["h"], DRIFT)),
+               solver_accuracy(result, p["m"] * p["g"] * p["h"], DRIFT),
+               source="conservation law (rolling does no work)"),
     ]
 
 
@@ -121,10 +126,11 @@ def _wobble_exercise_figures(result: Result, asm: Assembly) -> list[Figure]:
                   math.sin(a["theta"]) * math.sin(a["phi"])])  # R1(phi) R3(theta) i by hand
     e = np.cross(n, [0.0, 0.0, 1.0])
     return [Figure("n0", "|n(0) - (cos th, sin th cos ph, sin th sin ph)| (the rotated i)",
-                   float(np.linalg.norm(R[0, :, 0] - n)), 0.0, 1e-14),
+                   float(np.linalg.norm(R[0, :, 0] - n)), 0.0, 1e-14,
+                   source="seed 8.6 ex. 3 (n = n_ref after the (1,3,1) rotation), by hand"),
             Figure("omega0", "|omega(0) - n - nudge (n x Z) / |n x Z|| [rad/s] (the start)",
                    float(np.linalg.norm(omega[0] - n - WOBBLE_NUDGE * e / np.linalg.norm(e))), 0.0,
-                   1e-13),
+                   1e-13, source="seed 8.6 ex. 3 (omega(0) = n plus a small perturbation)"),
             *_thrown_figures(result, asm)]
 
 
@@ -210,7 +216,8 @@ def _axle_inertia_figures(result: Result, asm: Assembly) -> list[Figure]:
     bound = np.abs(np.linalg.inv(rows)) @ (np.array(slack) * np.array(J))
     keys = ("I_xx", "I_yy", "I_zz", "I_xy", "I_xz", "I_yz")
     return [Figure(key, f"{key} [kg.m2] recovered from six axle periods vs the body's",
-                   float(value), p[key], float(err))
+                   float(value), p[key], float(err),
+                   source="the body's own I_cm (what seed 8.6 ex. 4 asks to measure)")
             for key, value, err in zip(keys, I, bound)]
 
 
@@ -245,21 +252,23 @@ def _string_figures(result: Result, asm: Assembly) -> list[Figure]:
     return [
         Figure("H_Z", "largest |H_Z - H_Z(0)| / |H_Z(0)| (the string pulls through O: 0)",
                float(np.abs(H_Z - H_Z[0]).max() / abs(H_Z[0])), 0.0,
-               solver_accuracy(result, 1.0, DRIFT)),
+               solver_accuracy(result, 1.0, DRIFT),
+               source="conservation law (seed 8.6 ex. 5: vertical H about the support)"),
         Figure("E_balance", "largest |E + W_d - E(0)| / (E(0) - E_rest) (the string takes "
                "what E loses)", float(np.abs(E + W_d - E[0]).max()) / scale, 0.0,
-               solver_accuracy(result, 1.0, DRIFT)),
+               solver_accuracy(result, 1.0, DRIFT), source="energy balance (work of the string)"),
         Figure("E_rise", "largest rise of E between outputs / (E(0) - E_rest) (damping: 0)",
                max(0.0, float(np.diff(E).max())) / scale, 0.0,
-               solver_accuracy(result, 1.0, DRIFT)),
+               solver_accuracy(result, 1.0, DRIFT), source="energy balance (W_d' >= 0)"),
         Figure("E_floor", f"largest (H_Z^2/2I_OZ - (E - E_rest)) / (E(0) - E_rest), 0 if E "
                f"stays above the floor (end: E - E_rest = {excess[-1]:.3g} J >= "
                f"{floor[-1]:.3g} J, not 0)",
                max(0.0, float((floor - excess).max())) / scale, 0.0,
-               solver_accuracy(result, 1.0, DRIFT)),
+               solver_accuracy(result, 1.0, DRIFT),
+               source="bound derived here (Cauchy-Schwarz on the conserved H_Z)"),
         Figure("q_norm", "largest | |q|^2 - 1 | (the attitude stays a rotation)",
                float(np.abs(result["body.q_norm_error"]).max()), 0.0,
-               solver_accuracy(result, 1.0, DRIFT)),
+               solver_accuracy(result, 1.0, DRIFT), source="invariant |q| = 1 of q' = q (x) w / 2"),
     ]
 
 

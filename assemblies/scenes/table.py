@@ -81,13 +81,15 @@ def _moving_table_figures(result: Result, asm: Assembly) -> list[Figure]:
     # cycle, O(eps^2): about (mu g / omega) (2 pi mu g / omega) / (U omega) = 2 pi eps^2 U omega.
     return [Figure("decay_rate", "decay rate of the cycle-averaged velocity, V < U omega/4 [1/s]",
                    rate, 2 * mu * g / (math.pi * p["omega"] * p["U"]), eps + 0.25**2 / 6,
-                   relative=True),
+                   relative=True,
+                   source="seed 9.6 ex. 1 (averaged law, rate 2 mu g/(pi omega U))"),
             # the seed's averaged law before linearising: V' = -(2 mu g / pi) arcsin(V / (U omega))
             # (NaN, a FAIL, where the run stops within the first cycle)
             Figure("V_first", "mean absolute velocity over the first cycle [m/s]",
                    vc[0] if len(vc) else math.nan,
                    _averaged_law_first_cycle(1.5, mu * g, p["U"] * p["omega"], period),
-                   2 * math.pi * eps**2 * p["U"] * p["omega"])]
+                   2 * math.pi * eps**2 * p["U"] * p["omega"],
+                   source="seed 9.6 ex. 1 (averaged law before linearising, integrated here)")]
 
 
 def _averaged_law_first_cycle(v0, mu_g, u_omega, period):
@@ -285,7 +287,8 @@ def _conveyor_figures(result: Result, asm: Assembly) -> list[Figure]:
                                  block["mu_s"], block["mu_k"], block["g"])
     return [Figure("V_steady", f"mean absolute velocity over the last {CONVEYOR_MEASURED_PERIODS} "
                                "periods vs the exact periodic Coulomb motion [m/s]",
-                   float(mean), exact, CONVEYOR_ACCURACY)]
+                   float(mean), exact, CONVEYOR_ACCURACY,
+                   source="exact periodic Coulomb motion (event-driven, derived here; the seed estimates 1.069)")]
 
 
 _RECORD = ["block.x", "block.v", "block.s", "block.mode", "block.f_friction",
