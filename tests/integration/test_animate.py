@@ -1,7 +1,6 @@
 """`mechfmu run SCENE --animate FILE.gif`: the bodies drawn to scale from their recorded
 attitude, the frames written with their time labels, and one clear line for what cannot
 be animated."""
-import math
 
 import numpy as np
 import pytest
