@@ -84,5 +84,8 @@ SCENE_INDEX = {
     'nutation_damper': ('bodies_seed',
         'seed 8.3.1: spun about its minor axis, a body with a viscous damper inside ends '
         'spinning about its major axis'),
+    'burridge_knopoff': ('burridge_knopoff',
+        'issue 30: Burridge-Knopoff chain, C&L velocity-weakening friction, exact stick-'
+        'slip'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)
