@@ -183,41 +183,128 @@ def gutenberg_richter_b(moments: np.ndarray, lo: float, hi: float) -> tuple[floa
 def fault_study(n: int = 1000, events: int = 10_000, *, ell: float = 10.0,
                 alpha: float = 2.5, sigma: float = 0.01, nu: float = 0.01,
                 heterogeneity: float = 0.01, seed: int = 1, tol: float = 1e-8,
-                warmup: int | None = None) -> tuple[FaultRun, list[Figure]]:
-    """Run `events` slip events after a warm-up (default: n events, which lets the chain
-    forget its uniform start) and measure its figures: the energy balance and the small
-    events' b against Carlson & Langer's b = 1."""
-    warmup = n if warmup is None else warmup
-    run = run_fault(thresholds(n, 1.0, heterogeneity, seed),
-                    **carlson_langer(ell, alpha, sigma, nu), tol=tol,
-                    max_events=events + warmup)
-    cat = run.catalogue[warmup:]
-    run.settings.update(warmup=warmup, ell=ell, nu=nu, heterogeneity=heterogeneity,
-                        seed=seed)
+                warmup: float | None = None) -> tuple[FaultRun, list[Figure]]:
+    """Run `events` slip events after a warm-up and measure the figures: the energy
+    balance and the small events' b against Carlson & Langer's b = 1.
+
+    The warm-up lets the chain forget its uniform start: until the plate has moved
+    `warmup` (default 2.5 / nu, i.e. 2.5 F0/kp: every leaf spring reloaded past its
+    threshold more than twice), in runs of 1000 events that each end with every block
+    stuck, so the next starts exactly where it ended (positions shifted by the plate's
+    travel, which is all the leaf springs see). The measured run starts from there; its
+    catalogue's times count from its own start."""
+    warmup = 2.5 / nu if warmup is None else warmup
+    F = thresholds(n, 1.0, heterogeneity, seed)
+    law = carlson_langer(ell, alpha, sigma, nu)
+    x, travelled, chunks = np.zeros(n), 0.0, 0
+    while travelled < warmup * nu and nu > 0:
+        r = run_fault(F, **law, tol=tol, max_events=1000, x0=x, slides=0)
+        x = r.x - law["V"] * r.totals["time"]
+        travelled += law["V"] * r.totals["time"]
+        chunks += 1
+    run = run_fault(F, **law, tol=tol, max_events=events, x0=x)
+    run.settings.update(warmup_travel=travelled, warmup_runs=chunks, ell=ell, nu=nu,
+                        heterogeneity=heterogeneity, seed=seed)
     t = run.totals
-    # localised events: from 3 times the smallest (a one-block slide at the threshold
-    # drop, 2 sigma / (kp + 2 kc)) to the moment of a slide of ell blocks by that much
-    # times ell: C&L's crossover to delocalised events lies beyond
-    one_block = 2 * sigma / (1 + 2 * ell**2)
-    lo, hi = 3 * one_block, one_block * ell**2
-    b, err, used = gutenberg_richter_b(cat["moment"], lo, hi)
-    figures = [
-        Figure("energy", "friction dissipation + change in stored energy [J] (vs the plate's "
-               "work)", t["dissipated"] + t["E_end"] - t["E_start"], t["plate_work"],
-               DRIFT * tol, relative=True),
-        Figure("b", f"Gutenberg-Richter b of the {used} events with moment in "
-               f"[{lo:.2g}, {hi:.2g}] (maximum likelihood; accuracy 3 standard errors; "
-               "Carlson & Langer 1989: b = 1)", b, CL_B, 3 * err),
-    ]
+    figures = [Figure("energy", "friction dissipation + change in stored energy [J] (vs the "
+                      "plate's work)", t["dissipated"] + t["E_end"] - t["E_start"],
+                      t["plate_work"], DRIFT * tol, relative=True),
+               small_event_b(run.catalogue, sigma, ell)]
     return run, figures
 
 
-def plot_fault(run: FaultRun, title: str, png: Path, warmup: int = 0) -> None:
-    """Size distribution (events per unit ln moment) and a space-time picture of the slides."""
+def small_event_b(cat: np.ndarray, sigma: float, ell: float, batches: int = 5) -> Figure:
+    """The b of the localised events against Carlson & Langer's b = 1.
+
+    Range: from 3 times the smallest moment (one block sliding through its threshold drop,
+    2 sigma / (kp + 2 kc), whose spike the range leaves out) to ell^2 times it, the scale
+    of a slide of ell blocks, below C&L's crossover to delocalised events. Accuracy: 3
+    standard errors, the larger of the maximum-likelihood one (independent events) and
+    the spread of `batches` consecutive stretches of the run (events are correlated: a
+    large one resets a region), each measured alone."""
+    lo, hi = localised_range(sigma, ell)
+    b, err, used = gutenberg_richter_b(cat["moment"], lo, hi)
+    edges = np.linspace(cat["start"][0], cat["start"][-1], batches + 1) if cat.size else []
+    parts = [gutenberg_richter_b(cat["moment"][(cat["start"] >= a) & (cat["start"] <= z)],
+                                 lo, hi)[0] for a, z in zip(edges[:-1], edges[1:])]
+    spread = float(np.std(parts, ddof=1) / math.sqrt(batches)) if len(parts) > 1 else math.nan
+    return Figure("b", f"Gutenberg-Richter b of the {used} events with moment in "
+                  f"[{lo:.2g}, {hi:.2g}] (maximum likelihood; accuracy 3 standard errors, "
+                  f"of {batches} stretches' spread {spread:.2g} or the estimate's {err:.2g}; "
+                  "Carlson & Langer 1989: b = 1)", b, CL_B, 3 * max(err, spread))
+
+
+def _distribution(alpha: float, n: int, events: int, edges: np.ndarray, study: dict) -> dict:
+    """One point of the weakening sweep: the size distribution and its b at `alpha`."""
+    run, figures = fault_study(n, events, alpha=alpha, **study)
+    cat, b = run.catalogue, figures[1]
+    lo, hi = localised_range(run.settings["sigma"], study.get("ell", 10.0))
+    counts, _ = np.histogram(np.log(cat["moment"][cat["moment"] > 0]), bins=edges)
+    return dict(alpha=alpha, events=int(cat.size), b=b.measured, b_accuracy=b.bound,
+                b_passed=b.passed, mean_blocks=float(cat["blocks"].mean()),
+                delocalised=float(np.mean(cat["moment"] > hi)),
+                largest_moment=float(cat["moment"].max()), rate=cat.size / run.totals["time"],
+                counts=counts.tolist(), cpu_s=run.settings["cpu_s"])
+
+
+def weakening_sweep(alphas, n: int = 300, events: int = 5000, *, workers: int | None = None,
+                    scheduler=None, **study) -> dict:
+    """The size distribution at each weakening alpha, one fault run per point on Dask
+    (a local cluster of `workers` processes, or `scheduler`'s): {"edges": ln-moment bin
+    edges, "points": one dict per alpha, as _distribution gives}. Dask is the `sweep`
+    extra: without it, one line that says so."""
+    try:
+        from ..sweep import dask_client
+        import distributed  # noqa: F401  (the client below needs it)
+    except ImportError:
+        raise FaultError("the weakening sweep runs on Dask, which is not installed: "
+                         "pip install 'mechfmu[sweep]'") from None
+    alphas = [float(a) for a in alphas]
+    if not alphas or any(not (math.isfinite(a) and a >= 0) for a in alphas):
+        raise FaultError(f"the sweep's alphas must be finite numbers >= 0, not {alphas!r}")
+    edges = np.linspace(-10.0, 8.0, 37)
+    with dask_client(workers, scheduler) as client:
+        futures = client.map(_distribution, alphas, n=n, events=events, edges=edges,
+                             study=study, pure=False)
+        points = client.gather(futures)
+    return {"edges": edges.tolist(), "points": points}
+
+
+def plot_sweep(sweep: dict, png: Path) -> None:
+    """Events per unit ln moment per unit time against ln moment, one line per alpha."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    cat = run.catalogue[warmup:]
+    edges = np.array(sweep["edges"])
+    centres, width = (edges[1:] + edges[:-1]) / 2, np.diff(edges)
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for p in sweep["points"]:
+        counts = np.array(p["counts"], dtype=float)
+        rate = counts / width / (p["events"] / p["rate"])
+        ax.semilogy(centres[counts > 0], rate[counts > 0], "o-", ms=3,
+                    label=f"alpha = {p['alpha']:g} (b = {p['b']:.2f})")
+    ax.set_xlabel("mu = ln(moment)")
+    ax.set_ylabel("events per unit mu per unit time")
+    ax.set_title("Burridge-Knopoff: size distribution against the weakening alpha")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+
+
+def localised_range(sigma: float, ell: float) -> tuple[float, float]:
+    """The moments of C&L's small events that b is measured on (see small_event_b)."""
+    one_block = 2 * sigma / (1 + 2 * ell**2)
+    return 3 * one_block, one_block * ell**2
+
+
+def plot_fault(run: FaultRun, title: str, png: Path) -> None:
+    """Size distribution (events per unit ln moment, the fit range shaded, C&L's slope
+    through its lower end) and a space-time picture of the slides."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    cat = run.catalogue
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5))
     mu = np.log(cat["moment"][cat["moment"] > 0])
     counts, edges = np.histogram(mu, bins=40)
@@ -225,8 +312,11 @@ def plot_fault(run: FaultRun, title: str, png: Path, warmup: int = 0) -> None:
     duration = cat["end"][-1] - cat["start"][0] if cat.size else 1.0
     rate = counts / np.diff(edges) / duration
     ax1.semilogy(centres[counts > 0], rate[counts > 0], "o-", label="events")
+    lo, hi = localised_range(run.settings["sigma"], math.sqrt(run.settings["kc"]
+                                                               / run.settings["kp"]))
+    ax1.axvspan(math.log(lo), math.log(hi), alpha=0.15, label="fit range (localised events)")
     if counts.any():
-        k = int(np.argmax(counts))
+        k = int(np.argmin(np.abs(centres - math.log(lo))))
         ax1.semilogy(centres, rate[k] * np.exp(-CL_B * (centres - centres[k])), "--",
                      label=f"C&L: e^(-{CL_B:g} mu)")
     ax1.set_xlabel("mu = ln(moment)")
@@ -239,7 +329,7 @@ def plot_fault(run: FaultRun, title: str, png: Path, warmup: int = 0) -> None:
         ax2.scatter(keep["block"], keep["t0"], s=1, c=np.log10(np.abs(keep["slip"]) + 1e-12),
                     cmap="viridis")
         ax2.set_xlabel("block")
-        ax2.set_ylabel("time [s] (colour: log10 slip)")
+        ax2.set_ylabel(f"time [s] (colour: log10 slip; the first {keep.size} slides)")
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(png, dpi=90)
@@ -272,7 +362,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{f.name:<8} {f.measured:>14.8g} {f.reference:>14.8g} {f.error:>10.2e} "
               f"{f.bound:>10.2e}  {'pass' if f.passed else 'FAIL'}  {f.description}")
     s = run.settings
-    print(f"n = {s['n']}, {s['events']} events ({s['warmup']} warm-up) to t = "
+    print(f"n = {s['n']}, {s['events']} events (after a warm-up of {s['warmup_travel']:.3g} "
+          f"of plate travel) in t = "
           f"{run.totals['time']:.6g}, CPU {s['cpu_s']:.3g} s, {s['steps']} steps; blocks "
           f"stuck {100 * s['slept_fraction']['mean']:.1f}% of the time (least "
           f"{100 * s['slept_fraction']['min']:.1f}%)")
@@ -286,8 +377,7 @@ def main(argv: list[str] | None = None) -> int:
              "figures": [dict(name=f.name, description=f.description, measured=f.measured,
                               reference=f.reference, bound=f.bound, passed=f.passed)
                          for f in figures]}, indent=2, default=float) + "\n")
-        plot_fault(run, f"Burridge-Knopoff, n = {s['n']}", a.out / "burridge_knopoff.png",
-                   s["warmup"])
+        plot_fault(run, f"Burridge-Knopoff, n = {s['n']}", a.out / "burridge_knopoff.png")
     return 0 if all(f.passed for f in figures) else 1
 
 
