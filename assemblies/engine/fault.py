@@ -33,7 +33,8 @@ PARAMS = ("m", "kc", "kp", "V", "sigma", "alpha", "vw", "tol", "stop_time")
 TOTALS = ("time", "plate_work", "dissipated", "E_start", "E_end", "steps", "rejected",
           "rhs", "block_rhs", "located", "breakaways", "slips_dropped", "status", "created",
           "slides")
-STATUS = ("stop time reached", "max_events reached", "catalogue full")
+STATUS = ("stop time reached", "max_events reached", "catalogue full",
+          "every block stuck for good (the plate does not move)")
 
 
 class FaultError(AssemblyError):
@@ -108,6 +109,8 @@ def run_fault(F, *, m: float = 1.0, kc: float = 100.0, kp: float = 1.0, V: float
     if not 0.0 <= values["sigma"] < 1.0:
         raise FaultError(f"fault: sigma (the drop from static to kinetic friction at the "
                          f"onset of slip) must be in [0, 1), not {sigma!r}")
+    if max_steps > 10**9:  # the C side counts steps and stamps in int
+        raise FaultError(f"fault: max_steps must be at most 1e9, not {max_steps!r}")
     if not values["tol"] < 1:
         raise FaultError(f"fault: tol must be in (0, 1), not {tol!r}")
     if math.isinf(stop_time) and max_events is None:

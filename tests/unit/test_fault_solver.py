@@ -129,3 +129,13 @@ def test_b_estimate_recovers_a_known_power_law():
     assert used == m.size
     assert abs(est - b) < 3 * err and err < 0.02
     assert math.isnan(gutenberg_richter_b(m[:5], lo, hi)[0])
+
+
+def test_blocks_past_their_thresholds_at_the_start_slide_as_one_event():
+    """A block displaced 0.3 in a stiff chain pushes both neighbours past their
+    thresholds at t = 0: one event of three blocks, whose moment is their displacement."""
+    x0 = np.array([0.0, 0.3, 0.0])
+    run = run_fault([1.0, 1.0, 1.0], **carlson_langer(), tol=1e-8, max_events=1, x0=x0)
+    first = run.catalogue[0]
+    assert first["start"] == 0.0 and first["blocks"] == 3
+    assert first["moment"] == pytest.approx(float(np.sum(run.x - x0)), rel=1e-9)

@@ -45,7 +45,8 @@ enum { P_M, P_KC, P_KP, P_V, P_SIGMA, P_ALPHA, P_VW, P_TOL, P_TSTOP, P_COUNT };
 enum { T_TIME, T_PLATE_WORK, T_DISSIPATED, T_E_START, T_E_END, T_STEPS, T_REJECTED,
        T_RHS, T_BLOCK_RHS, T_LOCATED, T_BREAKAWAYS, T_SLIPS_DROPPED, T_STATUS, T_CREATED,
        T_SLIDES, T_COUNT };
-/* T_STATUS: 0 stop time reached, 1 max_events reached, 2 catalogue full */
+/* T_STATUS: 0 stop time reached, 1 max_events reached, 2 catalogue full, 3 every block
+   stuck for good (the plate still) */
 
 typedef struct {
     int n;
@@ -451,7 +452,8 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     /* blocks already at or past their thresholds at t = 0 start at once */
     for (i = 0; i < n; i++) {
         double A = coupling(&b, b.x, i) - b.kp * b.x[i];
-        if (fabs(A) >= F[i] && start_slide(&b, i, A > 0 ? 1 : -1, 0.0, -1) != 0) {
+        if (fabs(A) >= F[i] && start_slide(&b, i, A > 0 ? 1 : -1, 0.0,
+                                           neighbour_event(&b, i)) != 0) {
             status = 2;
             goto finish;
         }
@@ -471,6 +473,7 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
             double tb = b.tmin[1];
             int j = b.targ[1];
             if (b.completed >= max_events) { status = 1; break; }
+            if (!isfinite(tb) && !isfinite(t_stop)) { status = 3; break; } /* nothing moves */
             if (!(tb < t_stop)) { stuck_work(&b, t, t_stop); t = t_stop; break; }
             if (tb < t) tb = t; /* rounding: a threshold met now */
             stuck_work(&b, t, tb);
