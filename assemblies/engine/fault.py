@@ -2,7 +2,8 @@
 
 The C source (``fault_c/fault.c``) says how it works: stuck blocks cost nothing between
 events (their break-away times are closed forms in a min tree), sliding blocks are
-integrated by the FMU runtime's DOPRI5 with its event location, and the run hands back
+integrated by the FMU runtime's DOPRI5 with its event location, in groups that each keep
+their own clock (one group's switches do not cut another's steps), and the run hands back
 the event catalogue, each block's stuck time and an energy account. It is compiled by
 gcc once per machine and cached like the engine (:func:`fmus.build.cached_library`).
 
@@ -32,7 +33,7 @@ _RUNTIME = ("events", "solver")  # the FMU runtime's DOPRI5 and event location, 
 PARAMS = ("m", "kc", "kp", "V", "sigma", "alpha", "vw", "tol", "stop_time")
 TOTALS = ("time", "plate_work", "dissipated", "E_start", "E_end", "steps", "rejected",
           "rhs", "block_rhs", "located", "breakaways", "slips_dropped", "status", "created",
-          "slides")
+          "slides", "sliding")
 STATUS = ("stop time reached", "max_events reached", "catalogue full",
           "every block stuck for good (the plate does not move)")
 
@@ -168,7 +169,7 @@ def run_fault(F, *, m: float = 1.0, kc: float = 100.0, kp: float = 1.0, V: float
         slide_table[name] = sl[name][:n_slides]
     run_time = tot["time"]
     settings = dict(solver="fault (event-driven: closed-form break-aways, DOPRI5 on sliding "
-                           "blocks only)", n=n, **values, stop_time=stop_time,
+                           "blocks only, each group on its own clock)", n=n, **values, stop_time=stop_time,
                     max_events=max_events, status=STATUS[int(tot["status"])],
                     cpu_s=cpu, wall_s=wall, events=int(catalogue.size),
                     steps=int(tot["steps"]), rhs=int(tot["rhs"]),

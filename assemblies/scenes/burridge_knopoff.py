@@ -213,25 +213,30 @@ def fault_study(n: int = 1000, events: int = 10_000, *, ell: float = 10.0,
     return run, figures
 
 
-def small_event_b(cat: np.ndarray, sigma: float, ell: float, batches: int = 5) -> Figure:
+def small_event_b(cat: np.ndarray, sigma: float, ell: float, batches: int = 10) -> Figure:
     """The b of the localised events against Carlson & Langer's b = 1.
 
     Range: from 3 times the smallest moment (one block sliding through its threshold drop,
     2 sigma / (kp + 2 kc), whose spike the range leaves out) to ell^2 times it, the scale
-    of a slide of ell blocks, below C&L's crossover to delocalised events. Accuracy: 3
-    standard errors, the larger of the maximum-likelihood one (independent events) and
-    the spread of `batches` consecutive stretches of the run (events are correlated: a
-    large one resets a region), each measured alone."""
+    of a slide of ell blocks, below C&L's crossover to delocalised events. Accuracy: the
+    99% confidence half-width that the run's events allow, the larger of two: 3 standard
+    errors of the maximum-likelihood estimate (as if the events were independent), and
+    Student's t (batches - 1 degrees of freedom) times the standard error of the mean of
+    `batches` consecutive stretches of the run measured alone (events are correlated: a
+    large one resets a region, so a run's b wanders more than independent events would
+    let it)."""
+    from scipy.stats import t as student  # scipy: only for a study
     lo, hi = localised_range(sigma, ell)
     b, err, used = gutenberg_richter_b(cat["moment"], lo, hi)
     edges = np.linspace(cat["start"][0], cat["start"][-1], batches + 1) if cat.size else []
     parts = [gutenberg_richter_b(cat["moment"][(cat["start"] >= a) & (cat["start"] <= z)],
                                  lo, hi)[0] for a, z in zip(edges[:-1], edges[1:])]
     spread = float(np.std(parts, ddof=1) / math.sqrt(batches)) if len(parts) > 1 else math.nan
+    quantile = float(student.ppf(0.995, batches - 1))
     return Figure("b", f"Gutenberg-Richter b of the {used} events with moment in "
-                  f"[{lo:.2g}, {hi:.2g}] (maximum likelihood; accuracy 3 standard errors, "
-                  f"of {batches} stretches' spread {spread:.2g} or the estimate's {err:.2g}; "
-                  "Carlson & Langer 1989: b = 1)", b, CL_B, 3 * max(err, spread))
+                  f"[{lo:.2g}, {hi:.2g}] (maximum likelihood; accuracy: 99% half-width, "
+                  f"{quantile:.2f} x {spread:.2g} over {batches} stretches or 3 x {err:.2g}; "
+                  "Carlson & Langer 1989: b = 1)", b, CL_B, max(quantile * spread, 3 * err))
 
 
 def _distribution(alpha: float, n: int, events: int, edges: np.ndarray, study: dict) -> dict:

@@ -139,3 +139,24 @@ def test_blocks_past_their_thresholds_at_the_start_slide_as_one_event():
     first = run.catalogue[0]
     assert first["start"] == 0.0 and first["blocks"] == 3
     assert first["moment"] == pytest.approx(float(np.sum(run.x - x0)), rel=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_groups_on_their_own_clocks_follow_scipy(seed):
+    """An 8-block chain, weakly coupled, where slides far apart overlap in time (each
+    group of sliding blocks steps on its own clock; groups meet and are joined as blocks
+    between them break away): every slide against solve_ivp at 100x tighter tolerance."""
+    tol, stop = 1e-10, 60.0
+    par = dict(CHAIN2, kc=1.0)
+    F = thresholds(8, 1.0, 0.05, seed)
+    run = run_fault(F, **par, tol=tol, stop_time=stop)
+    ref, _ = scipy_slides(F, **par, stop_time=stop, rtol=tol / 100, atol=tol / 1e4)
+    got = sorted(((int(s["block"]), s["t0"], s["t1"]) for s in run.slides), key=lambda s: s[2])
+    assert len(got) == len(ref) >= 10
+    for (b, t0, t1), (rb, rt0, rt1, _) in zip(got, ref):
+        assert b == rb
+        assert abs(t0 - rt0) < 100 * tol * stop and abs(t1 - rt1) < 100 * tol * stop
+    # at least two groups at once: slides three or more blocks apart overlapping in time
+    apart = [(a, c) for a in got for c in got
+             if abs(a[0] - c[0]) >= 3 and a[1] < c[2] and c[1] < a[2]]
+    assert apart

@@ -16,8 +16,19 @@
  * Only sliding blocks are integrated (DOPRI5 of the FMU runtime, error-controlled,
  * atol = rtol = tol on the slip within a step and on the velocity), and only the stuck
  * neighbours of sliding blocks are watched, with indicators located by the runtime's
- * event location on the dense output. A step never passes the earliest closed-form
- * break-away of the blocks outside that neighbourhood.
+ * event location on the dense output.
+ *
+ * Sliding blocks are integrated in groups, each on its own clock: a group is a run of
+ * sliding blocks with at most one stuck block between neighbours (a stuck block between
+ * two sliding ones is watched by both, so they must share a clock). Groups further apart
+ * cannot feel each other until a block between them breaks away, so one group's events
+ * do not cut another's steps (in a big chain several slide at once: one clock for all
+ * would end a step for every block at every block's switch). The loop always advances
+ * the earliest clock, the closed-form break-aways included, and applies an event only
+ * when its time is the earliest, so events happen in time order. When a break-away
+ * brings two groups within one stuck block, the one that has stepped past that time is
+ * taken back to it on its last step's dense output (its step began no later than the
+ * current time, since only the earliest clock steps) and the two are joined.
  *
  * Energy is kept as three independent quantities so that their balance is a check:
  * the plate's work (kp V times the integral of the leaf stretch: closed form for stuck
@@ -44,9 +55,27 @@ enum { P_M, P_KC, P_KP, P_V, P_SIGMA, P_ALPHA, P_VW, P_TOL, P_TSTOP, P_COUNT };
 /* totals[], what the run reports beyond the catalogue */
 enum { T_TIME, T_PLATE_WORK, T_DISSIPATED, T_E_START, T_E_END, T_STEPS, T_REJECTED,
        T_RHS, T_BLOCK_RHS, T_LOCATED, T_BREAKAWAYS, T_SLIPS_DROPPED, T_STATUS, T_CREATED,
-       T_SLIDES, T_COUNT };
+       T_SLIDES, T_SLIDING, T_COUNT };
+/* T_SLIDING: block-seconds of sliding, summed over ended slides: the events' own size in
+   space-time, what the work should be proportional to */
 /* T_STATUS: 0 stop time reached, 1 max_events reached, 2 catalogue full, 3 every block
    stuck for good (the plate still) */
+
+
+typedef struct {
+    int live;
+    int nm, cap;        /* sliding blocks, room */
+    int *mov;           /* its sliding blocks */
+    double *y, *yd;     /* [slip in the step (nm), v (nm), friction work in the step (nm),
+                           plate work on its blocks in the step]: 3 cap + 1 */
+    int *hit, *dir;     /* crossings located at t, applied when t is the earliest */
+    int nhit;
+    mf_dopri s;
+    double t;           /* its clock */
+    int stepped;        /* y holds a step (or its part up to an event) not yet committed */
+    int pending;        /* events located at t wait in hit/dir */
+    int fresh;          /* its blocks or their velocities changed: reload y, restart */
+} group;
 
 typedef struct {
     int n;
@@ -54,14 +83,17 @@ typedef struct {
     const double *F;
     double *x, *v, *xs; /* xs: stage positions for sliding blocks, x for stuck ones */
     int *q;             /* -1, 0, +1 */
-    int *mov, *pos;     /* sliding blocks, and each block's index there (-1 stuck) */
-    int nm;
-    int *watch, *wmark, nw; /* stuck neighbours of sliding blocks */
+    int *gid, *pos;     /* a sliding block's group and its index there (-1 stuck) */
+    int *watch, *wmark, nw; /* the current group's stuck neighbours */
     int wstamp;
     /* segment tree of closed-form break-away times of the other stuck blocks */
     int P;
     double *tmin;
     int *targ;
+    /* groups */
+    group *G;
+    int ng, gcap, cur;
+    int *stack, sp;     /* crossings being applied (nested when groups meet) */
     /* events */
     int *label;          /* event of a sliding block */
     int *last_ev;        /* the event a block last joined (-1 none) */
@@ -76,12 +108,13 @@ typedef struct {
     double *slept, *stuck_since;
     double X_st;  /* sum of x over stuck blocks */
     int n_st;
-    /* integration */
-    mf_dopri s;
-    double *y, *yd, *z_ref, *z_b, *z_ev, *work;
-    int *todo, *dir; /* crossings found at one event */
+    double t_acc; /* the stuck blocks' plate work is summed up to here */
+    int oom;      /* an allocation failed */
+    /* integration scratch (one group at a time) */
+    double *z_ref, *z_b, *z_ev, *work;
     double W, D, D_c, W_c; /* Kahan sums */
-    double block_rhs;
+    double block_rhs, steps, rejected, rhs_count;
+    double sliding; /* block-seconds of ended slides */
 } bk;
 
 static void kahan(double *sum, double *c, double add)
@@ -145,88 +178,6 @@ static int find(bk *b, int e)
     return e;
 }
 
-static double stored_energy(const bk *b, double t)
-{
-    double e = 0.0;
-    int i;
-    for (i = 0; i < b->n; i++) {
-        double leaf = b->x[i] - b->V * t;
-        e += 0.5 * b->kp * leaf * leaf + 0.5 * b->m * b->v[i] * b->v[i];
-        if (i + 1 < b->n) {
-            double d = b->x[i + 1] - b->x[i];
-            e += 0.5 * b->kc * d * d;
-        }
-    }
-    return e;
-}
-
-/* block i starts to slide in direction dir at time t, in event e (a new one if e < 0);
-   returns 0, or -1 when a new event is needed and the catalogue is full */
-static int start_slide(bk *b, int i, int dir, double t, int e)
-{
-    if (e < 0) {
-        if (b->created >= b->cap) return -1;
-        e = (int)b->created++;
-        b->parent[e] = e;
-        b->active[e] = 0;
-        b->ev_start[e] = t;
-        b->ev_end[e] = NAN;
-        b->ev_moment[e] = b->ev_energy[e] = 0.0;
-        b->ev_blocks[e] = 0;
-        b->ev_first[e] = i;
-    }
-    e = find(b, e);
-    b->q[i] = dir;
-    b->v[i] = 0.0;
-    b->label[i] = e;
-    b->active[e]++;
-    if (b->last_ev[i] < 0 || find(b, b->last_ev[i]) != e) b->ev_blocks[e]++;
-    b->last_ev[i] = e;
-    b->seg_x[i] = b->x[i];
-    b->seg_t[i] = t;
-    b->slept[i] += t - b->stuck_since[i];
-    b->pos[i] = b->nm;
-    b->mov[b->nm++] = i;
-    b->X_st -= b->x[i];
-    b->n_st--;
-    tree_update(b, i - 1);
-    tree_update(b, i);
-    tree_update(b, i + 1);
-    return 0;
-}
-
-static void stick(bk *b, int i, double t)
-{
-    int e = find(b, b->label[i]), k = b->pos[i], last = b->mov[b->nm - 1];
-    double slip = b->x[i] - b->seg_x[i];
-    b->ev_moment[e] += slip;
-    if (b->sl_count < b->sl_cap) {
-        long s = b->sl_count++;
-        b->sl_event[s] = e;
-        b->sl_block[s] = i;
-        b->sl_t0[s] = b->seg_t[i];
-        b->sl_t1[s] = t;
-        b->sl_slip[s] = slip;
-    } else {
-        b->sl_dropped++;
-    }
-    b->q[i] = 0;
-    b->v[i] = 0.0;
-    b->mov[k] = last;
-    b->pos[last] = k;
-    b->pos[i] = -1;
-    b->nm--;
-    b->stuck_since[i] = t;
-    b->X_st += b->x[i];
-    b->n_st++;
-    if (--b->active[e] == 0) {
-        b->ev_end[e] = t;
-        b->completed++;
-    }
-    tree_update(b, i - 1);
-    tree_update(b, i);
-    tree_update(b, i + 1);
-}
 
 /* the event a block pushed over its threshold joins: its sliding neighbours' (merged) */
 static int neighbour_event(bk *b, int j)
@@ -251,17 +202,318 @@ static int neighbour_event(bk *b, int j)
     return e;
 }
 
-/* y = [slip within the step (nm), v (nm), friction work within the step (nm), plate work
-   on sliding blocks within the step] */
+
+/* ---- groups --------------------------------------------------------------------- */
+static int group_reserve(bk *b, group *g, int need)
+{
+    int cap;
+    if (need <= g->cap) return 0;
+    cap = g->cap * 2 > need ? g->cap * 2 : need;
+    if (cap < 4) cap = 4;
+    if (cap > b->n) cap = b->n;
+    {
+        int *mov = realloc(g->mov, (size_t)cap * sizeof(int));
+        int *hit = mov ? realloc(g->hit, 3 * (size_t)cap * sizeof(int)) : NULL;
+        int *dir;
+        double *y, *yd;
+        if (mov) g->mov = mov;
+        if (hit) g->hit = hit;
+        dir = hit ? realloc(g->dir, 3 * (size_t)cap * sizeof(int)) : NULL;
+        if (dir) g->dir = dir;
+        y = dir ? realloc(g->y, (3 * (size_t)cap + 1) * sizeof(double)) : NULL;
+        if (y) g->y = y;
+        yd = y ? realloc(g->yd, (3 * (size_t)cap + 1) * sizeof(double)) : NULL;
+        if (yd) g->yd = yd;
+        if (!yd) { b->oom = 1; return -1; }
+    }
+    {   /* the solver's buffers: its history goes (a membership change restarts it) */
+        double h = g->s.h_guess;
+        mf_dopri_free(&g->s);
+        if (mf_dopri_alloc(&g->s, 3 * cap + 1) != 0) { b->oom = 1; return -1; }
+        g->s.h_guess = h;
+    }
+    g->cap = cap;
+    return 0;
+}
+
+static int group_new(bk *b, double t)
+{
+    int k;
+    for (k = 0; k < b->ng; k++)
+        if (!b->G[k].live) break;
+    if (k == b->ng) {
+        if (b->ng == b->gcap) {
+            int cap = b->gcap ? 2 * b->gcap : 8;
+            group *G = realloc(b->G, (size_t)cap * sizeof(group));
+            if (!G) { b->oom = 1; return -1; }
+            memset(G + b->gcap, 0, (size_t)(cap - b->gcap) * sizeof(group));
+            b->G = G;
+            b->gcap = cap;
+        }
+        b->ng++;
+    }
+    b->G[k].live = 1;
+    b->G[k].nm = 0;
+    b->G[k].t = t;
+    b->G[k].stepped = b->G[k].pending = 0;
+    b->G[k].nhit = 0;
+    b->G[k].fresh = 1;
+    return k;
+}
+
+static int group_add(bk *b, int g, int i)
+{
+    group *G = &b->G[g];
+    if (group_reserve(b, G, G->nm + 1) != 0) return -1;
+    b->pos[i] = G->nm;
+    b->gid[i] = g;
+    G->mov[G->nm++] = i;
+    G->fresh = 1;
+    return 0;
+}
+
+static void group_remove(bk *b, int i)
+{
+    group *G = &b->G[b->gid[i]];
+    int k = b->pos[i], last = G->mov[G->nm - 1];
+    G->mov[k] = last;
+    b->pos[last] = k;
+    b->pos[i] = -1;
+    b->gid[i] = -1;
+    G->nm--;
+    G->fresh = 1;
+    if (G->nm == 0) G->live = 0;
+}
+
+/* fold a group's uncommitted increments (up to its clock) into the blocks and the sums */
+static void commit(bk *b, group *G)
+{
+    const int nm = G->nm;
+    int k;
+    if (!G->stepped) return;
+    for (k = 0; k < nm; k++) {
+        int i = G->mov[k];
+        double w = G->y[2 * nm + k];
+        b->x[i] += G->y[k];
+        b->xs[i] = b->x[i];
+        b->v[i] = G->y[nm + k];
+        b->ev_energy[find(b, b->label[i])] += w;
+        kahan(&b->D, &b->D_c, w);
+        G->y[k] = 0.0;
+        G->y[2 * nm + k] = 0.0;
+    }
+    kahan(&b->W, &b->W_c, G->y[3 * nm]);
+    G->y[3 * nm] = 0.0;
+    G->stepped = 0;
+}
+
+static void load(group *G, const bk *b)
+{
+    const int nm = G->nm;
+    int k;
+    for (k = 0; k < nm; k++) {
+        G->y[k] = 0.0;
+        G->y[nm + k] = b->v[G->mov[k]];
+        G->y[2 * nm + k] = 0.0;
+    }
+    G->y[3 * nm] = 0.0;
+    G->s.n = 3 * nm + 1;
+    mf_dopri_restart(&G->s);
+    G->fresh = 0;
+}
+
+/* plate work on the stuck blocks up to t (the stuck set changes only at events, which are
+   applied in time order): their total stretch is n_st V t - X_st */
+static void stuck_work(bk *b, double t)
+{
+    double ta = b->t_acc, h = t - ta, S;
+    if (!(h > 0.0)) return;
+    S = b->n_st * b->V * ta - b->X_st;
+    kahan(&b->W, &b->W_c, b->kp * b->V * (S * h + 0.5 * b->n_st * b->V * h * h));
+    b->t_acc = t;
+}
+
+static double stored_energy(const bk *b, double t)
+{
+    double e = 0.0;
+    int i;
+    for (i = 0; i < b->n; i++) {
+        double leaf = b->x[i] - b->V * t;
+        e += 0.5 * b->kp * leaf * leaf + 0.5 * b->m * b->v[i] * b->v[i];
+        if (i + 1 < b->n) {
+            double d = b->x[i + 1] - b->x[i];
+            e += 0.5 * b->kc * d * d;
+        }
+    }
+    return e;
+}
+
+static void stick(bk *b, int i, double t)
+{
+    int e = find(b, b->label[i]);
+    double slip = b->x[i] - b->seg_x[i];
+    stuck_work(b, t);
+    b->ev_moment[e] += slip;
+    b->sliding += t - b->seg_t[i];
+    if (b->sl_count < b->sl_cap) {
+        long s = b->sl_count++;
+        b->sl_event[s] = e;
+        b->sl_block[s] = i;
+        b->sl_t0[s] = b->seg_t[i];
+        b->sl_t1[s] = t;
+        b->sl_slip[s] = slip;
+    } else {
+        b->sl_dropped++;
+    }
+    group_remove(b, i);
+    b->q[i] = 0;
+    b->v[i] = 0.0;
+    b->stuck_since[i] = t;
+    b->X_st += b->x[i];
+    b->n_st++;
+    if (--b->active[e] == 0) {
+        b->ev_end[e] = t;
+        b->completed++;
+    }
+    tree_update(b, i - 1);
+    tree_update(b, i);
+    tree_update(b, i + 1);
+}
+
+/* a block whose velocity reached 0: stuck, or, if its force is still beyond the static
+   threshold there, sliding on from rest (the other way, or the same) in the same event */
+static void stopped(bk *b, int i, double t)
+{
+    double A = coupling(b, b->x, i) + b->kp * (b->V * t - b->x[i]);
+    b->v[i] = 0.0;
+    b->G[b->gid[i]].fresh = 1;
+    if (A >= b->F[i]) b->q[i] = 1;
+    else if (A <= -b->F[i]) b->q[i] = -1;
+    else stick(b, i, t);
+}
+
+static int apply_events(bk *b, int g, double t);
+
+/* group h brought to time t (t no later than its clock, and its last step begun no later
+   than t): its step cut back on the dense output, or its own events at t applied first.
+   Returns -1 on a full catalogue or no memory. */
+static int bring_to(bk *b, int h, double t)
+{
+    group *H = &b->G[h];
+    if (H->t > t) {
+        if (H->stepped) mf_dopri_dense(&H->s, t, H->y); /* its step covers t */
+        H->t = t;
+        H->pending = 0; /* later than t: they will be found again if they still happen */
+        H->nhit = 0;
+    }
+    commit(b, H);
+    if (H->pending) return apply_events(b, h, t);
+    return 0;
+}
+
+/* block j breaks away at time t in direction dir, joining (and joining up) the groups
+   within one stuck block of it; returns -1 on a full catalogue or no memory */
+static int start_block(bk *b, int j, int dir, double t)
+{
+    int target = -1, d, e;
+    for (;;) { /* groups with events of their own at t apply them first: gather again */
+        int again = 0;
+        for (d = -2; d <= 2 && !again; d++) {
+            int i = j + d, h;
+            if (d == 0 || i < 0 || i >= b->n || b->gid[i] < 0) continue;
+            h = b->gid[i];
+            if (b->G[h].t != t || b->G[h].stepped || b->G[h].pending) {
+                if (b->G[h].pending && b->G[h].t == t) again = 1;
+                if (bring_to(b, h, t) != 0) return -1;
+            }
+        }
+        if (!again) break;
+    }
+    if (b->q[j] != 0) return 0; /* started by a neighbour's events meanwhile */
+    for (d = -2; d <= 2; d++) { /* join every group in reach into the largest */
+        int i = j + d;
+        if (d == 0 || i < 0 || i >= b->n || b->gid[i] < 0) continue;
+        if (target < 0 || b->G[b->gid[i]].nm > b->G[target].nm) target = b->gid[i];
+    }
+    for (d = -2; d <= 2 && target >= 0; d++) {
+        int i = j + d, h, k;
+        if (d == 0 || i < 0 || i >= b->n || b->gid[i] < 0 || b->gid[i] == target) continue;
+        h = b->gid[i];
+        for (k = 0; k < b->G[h].nm; k++)
+            if (group_add(b, target, b->G[h].mov[k]) != 0) return -1;
+        b->G[h].nm = 0;
+        b->G[h].live = 0;
+    }
+    if (target < 0 && (target = group_new(b, t)) < 0) return -1;
+    e = neighbour_event(b, j);
+    if (e < 0) {
+        if (b->created >= b->cap) return -1;
+        e = (int)b->created++;
+        b->parent[e] = e;
+        b->active[e] = 0;
+        b->ev_start[e] = t;
+        b->ev_end[e] = NAN;
+        b->ev_moment[e] = b->ev_energy[e] = 0.0;
+        b->ev_blocks[e] = 0;
+        b->ev_first[e] = j;
+    }
+    e = find(b, e);
+    stuck_work(b, t);
+    if (group_add(b, target, j) != 0) return -1;
+    b->G[target].t = t;
+    b->q[j] = dir;
+    b->v[j] = 0.0;
+    b->label[j] = e;
+    b->active[e]++;
+    if (b->last_ev[j] < 0 || find(b, b->last_ev[j]) != e) b->ev_blocks[e]++;
+    b->last_ev[j] = e;
+    b->seg_x[j] = b->x[j];
+    b->seg_t[j] = t;
+    b->slept[j] += t - b->stuck_since[j];
+    b->X_st -= b->x[j];
+    b->n_st--;
+    tree_update(b, j - 1);
+    tree_update(b, j);
+    tree_update(b, j + 1);
+    return 0;
+}
+
+/* the crossings group g located at t, applied (g committed at t); copied to the stack
+   first: meeting groups may apply theirs in between */
+static int apply_events(bk *b, int g, double t)
+{
+    group *G = &b->G[g];
+    int base = b->sp, k, nh = G->nhit;
+    for (k = 0; k < nh; k++) {
+        b->stack[b->sp++] = G->hit[k];
+        b->stack[b->sp++] = G->dir[k];
+    }
+    G->pending = 0;
+    G->nhit = 0;
+    G->fresh = 1;
+    for (k = base; k < base + 2 * nh; k += 2) {
+        int i = b->stack[k], dir = b->stack[k + 1];
+        if (dir == 0) {
+            if (b->q[i] != 0) stopped(b, i, t);
+        } else if (b->q[i] == 0) {
+            if (start_block(b, i, dir, t) != 0) { b->sp = base; return -1; }
+        }
+    }
+    b->sp = base;
+    return 0;
+}
+
+/* ---- one group's step -------------------------------------------------------------- */
 static int rhs(void *ctx, double t, const double *y, double *dy)
 {
     bk *b = (bk *)ctx;
-    const int nm = b->nm;
+    const group *G = &b->G[b->cur];
+    const int nm = G->nm;
     double P = 0.0;
     int k;
-    for (k = 0; k < nm; k++) b->xs[b->mov[k]] = b->x[b->mov[k]] + y[k];
+    for (k = 0; k < nm; k++) b->xs[G->mov[k]] = b->x[G->mov[k]] + y[k];
     for (k = 0; k < nm; k++) {
-        int i = b->mov[k], q = b->q[i];
+        int i = G->mov[k], q = b->q[i];
         double v = y[nm + k], stretch = b->V * t - b->xs[i];
         double fr = q * kinetic(b, i, q * v);
         dy[k] = v;
@@ -274,14 +526,14 @@ static int rhs(void *ctx, double t, const double *y, double *dy)
     return 0;
 }
 
-static void build_watch(bk *b)
+static void build_watch(bk *b, const group *G)
 {
     int k, d;
     b->nw = 0;
     b->wstamp++;
-    for (k = 0; k < b->nm; k++)
+    for (k = 0; k < G->nm; k++)
         for (d = -1; d <= 1; d += 2) {
-            int j = b->mov[k] + d;
+            int j = G->mov[k] + d;
             if (j < 0 || j >= b->n || b->q[j] != 0 || b->wmark[j] == b->wstamp) continue;
             b->wmark[j] = b->wstamp;
             b->watch[b->nw++] = j;
@@ -289,12 +541,12 @@ static void build_watch(bk *b)
 }
 
 /* indicators at state y: q v per sliding block, then F - A and F + A per watched block */
-static void indicators_at(bk *b, double t, const double *y, double *z)
+static void indicators_at(bk *b, const group *G, double t, const double *y, double *z)
 {
-    const int nm = b->nm;
+    const int nm = G->nm;
     int k;
     for (k = 0; k < nm; k++) {
-        int i = b->mov[k];
+        int i = G->mov[k];
         b->xs[i] = b->x[i] + y[k];
         z[k] = b->q[i] * y[nm + k];
     }
@@ -309,61 +561,62 @@ static void indicators_at(bk *b, double t, const double *y, double *z)
 static int indicators_dense(void *ctx, double t, double *z)
 {
     bk *b = (bk *)ctx;
-    mf_dopri_dense(&b->s, t, b->yd);
-    indicators_at(b, t, b->yd, z);
+    group *G = &b->G[b->cur];
+    mf_dopri_dense(&G->s, t, G->yd);
+    indicators_at(b, G, t, G->yd, z);
     return 0;
 }
 
-/* fold a step's (or a part step's) increments into the blocks and the sums */
-static void commit(bk *b, double *y)
+/* one step of group g from its clock towards t_stop; a crossing inside it ends the step
+   there and waits (pending) until its time is the earliest. 0, or -1 with msg. */
+static int step_group(bk *b, int g, double t_stop, char *msg, int msg_len)
 {
-    const int nm = b->nm;
-    int k;
-    for (k = 0; k < nm; k++) {
-        int i = b->mov[k];
-        double w = y[2 * nm + k];
-        b->x[i] += y[k];
-        b->xs[i] = b->x[i];
-        b->v[i] = y[nm + k];
-        b->ev_energy[find(b, b->label[i])] += w;
-        kahan(&b->D, &b->D_c, w);
-        y[k] = 0.0;
-        y[2 * nm + k] = 0.0;
+    group *G = &b->G[g];
+    const int nm = G->nm;
+    int nz, found, k;
+    double ta = G->t, t = G->t, te;
+    mf_dopri_result r;
+    long rej0 = G->s.n_rejected, rhs0 = G->s.n_rhs;
+    b->cur = g;
+    if (G->fresh) load(G, b);
+    build_watch(b, G);
+    nz = nm + 2 * b->nw;
+    indicators_at(b, G, t, G->y, b->z_ref);
+    r = mf_dopri_step(&G->s, rhs, b, &t, G->y, t_stop, b->tol, 1e-3);
+    b->steps += 1;
+    b->rejected += (double)(G->s.n_rejected - rej0);
+    b->rhs_count += (double)(G->s.n_rhs - rhs0);
+    if (r != MF_DOPRI_OK) {
+        snprintf(msg, (size_t)msg_len, "fault: the slide could not be integrated at t = %.9g "
+                 "(%s, %d blocks sliding)", ta, r == MF_DOPRI_STEP_UNDERFLOW
+                 ? "step size underflow" : "friction law not finite", nm);
+        return -1;
     }
-    kahan(&b->W, &b->W_c, y[3 * nm]);
-    y[3 * nm] = 0.0;
-}
-
-/* plate work on the stuck blocks over [ta, tb]: their stretch is n_st V t - X_st */
-static void stuck_work(bk *b, double ta, double tb)
-{
-    double h = tb - ta, S = b->n_st * b->V * ta - b->X_st;
-    kahan(&b->W, &b->W_c, b->kp * b->V * (S * h + 0.5 * b->n_st * b->V * h * h));
-}
-
-static void load_y(bk *b)
-{
-    const int nm = b->nm;
-    int k;
-    for (k = 0; k < nm; k++) {
-        b->y[k] = 0.0;
-        b->y[nm + k] = b->v[b->mov[k]];
-        b->y[2 * nm + k] = 0.0;
+    indicators_at(b, G, t, G->y, b->z_b);
+    found = mf_locate_event(indicators_dense, b, nz, ta, b->z_ref, t, b->z_b, 4, &te,
+                            b->z_ev, b->work);
+    if (found < 0) {
+        snprintf(msg, (size_t)msg_len, "fault: an indicator was not finite at t = %.9g", ta);
+        return -1;
     }
-    b->y[3 * nm] = 0.0;
-    b->s.n = 3 * nm + 1;
-    mf_dopri_restart(&b->s);
-}
-
-/* a block whose velocity reached 0: stuck, or, if its force is still beyond the static
-   threshold there, sliding on from rest (the other way, or the same) in the same event */
-static void stopped(bk *b, int i, double t)
-{
-    double A = coupling(b, b->x, i) + b->kp * (b->V * t - b->x[i]);
-    b->v[i] = 0.0;
-    if (A >= b->F[i]) b->q[i] = 1;
-    else if (A <= -b->F[i]) b->q[i] = -1;
-    else stick(b, i, t);
+    G->stepped = 1;
+    if (!found) {
+        G->t = t;
+        return 0;
+    }
+    mf_dopri_dense(&G->s, te, G->y);
+    G->t = te;
+    G->nhit = 0;
+    for (k = 0; k < nz; k++) {
+        if (!mf_crossed(b->z_ref[k], b->z_ev[k])) continue;
+        if (k < nm) { G->hit[G->nhit] = G->mov[k]; G->dir[G->nhit++] = 0; }
+        else {
+            G->hit[G->nhit] = b->watch[(k - nm) / 2];
+            G->dir[G->nhit++] = (k - nm) % 2 == 0 ? 1 : -1;
+        }
+    }
+    G->pending = 1;
+    return 0;
 }
 
 static void *grab(size_t count, size_t size, int *failed)
@@ -386,14 +639,13 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
                         long max_steps, char *msg, int msg_len)
 {
     bk b;
-    int failed = 0, i, status = 0, rc = 0;
-    long steps = 0;
+    int failed = 0, i, k, status = 0, rc = 0;
+    long iterations = 0;
     double t = 0.0, t_stop = par[P_TSTOP];
-    size_t dim;
 
     memset(&b, 0, sizeof b);
-    if (n < 1 || n > 50000000 || cap < 1 || sl_cap < 0) {
-        snprintf(msg, (size_t)msg_len, "fault: n must be in 1..5e7 and the catalogue hold "
+    if (n < 1 || n > 10000000 || cap < 1 || sl_cap < 0) {
+        snprintf(msg, (size_t)msg_len, "fault: n must be in 1..1e7 and the catalogue hold "
                  "at least one event (n = %d, capacity %ld)", n, cap);
         return -1;
     }
@@ -406,11 +658,10 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     b.sl_cap = sl_cap; b.sl_event = sl_event; b.sl_block = sl_block; b.sl_t0 = sl_t0;
     b.sl_t1 = sl_t1; b.sl_slip = sl_slip; b.slept = slept;
     for (b.P = 1; b.P < n; b.P *= 2) {}
-    dim = 3 * (size_t)n + 1;
     b.v = grab((size_t)n, sizeof(double), &failed);
     b.xs = grab((size_t)n, sizeof(double), &failed);
     b.q = grab((size_t)n, sizeof(int), &failed);
-    b.mov = grab((size_t)n, sizeof(int), &failed);
+    b.gid = grab((size_t)n, sizeof(int), &failed);
     b.pos = grab((size_t)n, sizeof(int), &failed);
     b.watch = grab((size_t)n, sizeof(int), &failed);
     b.wmark = grab((size_t)n, sizeof(int), &failed);
@@ -423,16 +674,12 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     b.stuck_since = grab((size_t)n, sizeof(double), &failed);
     b.parent = grab((size_t)cap, sizeof(int), &failed);
     b.active = grab((size_t)cap, sizeof(int), &failed);
-    b.y = grab(dim, sizeof(double), &failed);
-    b.yd = grab(dim, sizeof(double), &failed);
-    /* indicators: one per sliding block, two per watched one: at most 3n */
+    /* crossings on the stack: at most one per sliding block and two per watched one */
+    b.stack = grab(6 * (size_t)n + 16, sizeof(int), &failed);
     b.z_ref = grab(3 * (size_t)n, sizeof(double), &failed);
     b.z_b = grab(3 * (size_t)n, sizeof(double), &failed);
     b.z_ev = grab(3 * (size_t)n, sizeof(double), &failed);
-    b.todo = grab(3 * (size_t)n, sizeof(int), &failed);
-    b.dir = grab(3 * (size_t)n, sizeof(int), &failed);
     b.work = grab(MF_LOCATE_WORK(3 * (size_t)n, 4), sizeof(double), &failed);
-    if (!failed && mf_dopri_alloc(&b.s, (int)dim) != 0) failed = 1;
     if (failed) {
         snprintf(msg, (size_t)msg_len, "fault: out of memory for %d blocks", n);
         rc = -1;
@@ -441,8 +688,7 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     for (i = 0; i < 2 * b.P; i++) b.tmin[i] = INFINITY;
     for (i = 0; i < n; i++) {
         b.xs[i] = x[i];
-        b.pos[i] = -1;
-        b.last_ev[i] = -1;
+        b.pos[i] = b.gid[i] = b.last_ev[i] = -1;
         b.X_st += x[i];
         slept[i] = 0.0;
     }
@@ -452,125 +698,84 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     /* blocks already at or past their thresholds at t = 0 start at once */
     for (i = 0; i < n; i++) {
         double A = coupling(&b, b.x, i) - b.kp * b.x[i];
-        if (fabs(A) >= F[i] && start_slide(&b, i, A > 0 ? 1 : -1, 0.0,
-                                           neighbour_event(&b, i)) != 0) {
+        if (b.q[i] == 0 && fabs(A) >= F[i] && start_block(&b, i, A > 0 ? 1 : -1, 0.0) != 0) {
             status = 2;
             goto finish;
         }
     }
-    load_y(&b);
 
-    while (t < t_stop) {
-        if (++steps > max_steps) {
+    for (;;) {
+        int g = -1;
+        double tg = INFINITY, tt = b.tmin[1];
+        if (++iterations > max_steps) {
             snprintf(msg, (size_t)msg_len, "fault: more than %ld steps before t = %g (at t = "
-                     "%.9g, %d blocks sliding): raise max_steps or shorten the run",
-                     max_steps, t_stop, t, b.nm);
+                     "%.9g): raise max_steps or shorten the run", max_steps, t_stop, b.t_acc);
             rc = -1;
             goto finish;
         }
-        if (b.nm == 0) {
+        for (k = 0; k < b.ng; k++) /* the earliest clock */
+            if (b.G[k].live && b.G[k].t < tg) { tg = b.G[k].t; g = k; }
+        if (g < 0) {
             /* every block stuck: jump to the earliest closed-form break-away */
-            double tb = b.tmin[1];
-            int j = b.targ[1];
-            if (b.completed >= max_events) { status = 1; break; }
-            if (!isfinite(tb) && !isfinite(t_stop)) { status = 3; break; } /* nothing moves */
-            if (!(tb < t_stop)) { stuck_work(&b, t, t_stop); t = t_stop; break; }
-            if (tb < t) tb = t; /* rounding: a threshold met now */
-            stuck_work(&b, t, tb);
-            t = tb;
+            if (b.completed >= max_events) { status = 1; t = b.t_acc; break; }
+            if (!isfinite(tt) && !isfinite(t_stop)) { status = 3; t = b.t_acc; break; }
+            if (!(tt < t_stop)) { t = t_stop; break; }
+            if (tt < b.t_acc) tt = b.t_acc; /* rounding: a threshold met now */
+            b.steps += 0; /* a jump, not a step */
             totals[T_BREAKAWAYS] += 1;
-            if (start_slide(&b, j, 1, t, -1) != 0) { status = 2; break; }
-            load_y(&b);
+            if (start_block(&b, b.targ[1], 1, tt) != 0) { status = 2; t = tt; break; }
             continue;
         }
-        {
-            const int nm = b.nm;
-            int nz, found, k;
-            double ta = t, t_end = fmin(t_stop, b.tmin[1]), te;
-            mf_dopri_result r;
-            if (t_end < t) t_end = t;
-            build_watch(&b);
-            nz = nm + 2 * b.nw;
-            indicators_at(&b, t, b.y, b.z_ref);
-            r = mf_dopri_step(&b.s, rhs, &b, &t, b.y, t_end, b.tol, 1e-3);
-            if (r != MF_DOPRI_OK) {
-                snprintf(msg, (size_t)msg_len, "fault: the slide could not be integrated at "
-                         "t = %.9g (%s, %d blocks sliding)", ta, r == MF_DOPRI_STEP_UNDERFLOW
-                         ? "step size underflow" : "friction law not finite", nm);
-                rc = -1;
-                goto finish;
-            }
-            indicators_at(&b, t, b.y, b.z_b);
-            found = mf_locate_event(indicators_dense, &b, nz, ta, b.z_ref, t, b.z_b, 4, &te,
-                                    b.z_ev, b.work);
-            if (found < 0) {
-                snprintf(msg, (size_t)msg_len, "fault: an indicator was not finite at "
-                         "t = %.9g", ta);
-                rc = -1;
-                goto finish;
-            }
-            if (found) {
-                int nhit = 0, err = 0;
-                mf_dopri_dense(&b.s, te, b.y);
-                t = te;
-                totals[T_LOCATED] += 1;
-                /* collect every crossing first: the lists change as they are applied */
-                for (k = 0; k < nz; k++) {
-                    if (!mf_crossed(b.z_ref[k], b.z_ev[k])) continue;
-                    if (k < nm) { b.todo[nhit] = b.mov[k]; b.dir[nhit++] = 0; }
-                    else {
-                        b.todo[nhit] = b.watch[(k - nm) / 2];
-                        b.dir[nhit++] = (k - nm) % 2 == 0 ? 1 : -1;
-                    }
-                }
-                commit(&b, b.y);
-                stuck_work(&b, ta, t);
-                for (k = 0; k < nhit && !err; k++) {
-                    int i = b.todo[k];
-                    if (b.dir[k] == 0) {
-                        if (b.q[i] != 0) stopped(&b, i, t);
-                    } else if (b.q[i] == 0) {
-                        err = start_slide(&b, i, b.dir[k], t, neighbour_event(&b, i));
-                    }
-                }
-                if (err) { status = 2; break; }
-                load_y(&b);
-            } else {
-                commit(&b, b.y);
-                stuck_work(&b, ta, t);
-                if (t >= b.tmin[1] && t < t_stop) {
-                    int j = b.targ[1];
-                    totals[T_BREAKAWAYS] += 1;
-                    if (start_slide(&b, j, 1, t, -1) != 0) { status = 2; break; }
-                    load_y(&b);
-                }
-            }
-            if (b.nm == 0 && b.completed >= max_events) { status = 1; break; }
+        if (tt < tg && tt < t_stop) {
+            /* a stuck block far from every slide reaches its threshold first */
+            if (tt < b.t_acc) tt = b.t_acc;
+            totals[T_BREAKAWAYS] += 1;
+            if (start_block(&b, b.targ[1], 1, tt) != 0) { status = 2; t = tt; break; }
+            continue;
         }
+        if (tg >= t_stop) { t = t_stop; break; } /* every group has reached the stop time */
+        commit(&b, &b.G[g]);
+        if (b.G[g].pending) {
+            totals[T_LOCATED] += 1;
+            if (apply_events(&b, g, tg) != 0) { status = 2; t = tg; break; }
+            continue; /* its blocks changed: the earliest clock is chosen again */
+        }
+        if (step_group(&b, g, t_stop, msg, msg_len) != 0) { rc = -1; t = tg; goto finish; }
     }
 finish:
+    if (b.oom && rc == 0) {
+        snprintf(msg, (size_t)msg_len, "fault: out of memory for the sliding groups");
+        rc = -1;
+    }
+    for (k = 0; k < b.ng; k++) /* the groups' last steps, up to where each has got */
+        if (b.G[k].live) commit(&b, &b.G[k]);
+    stuck_work(&b, t);
     for (i = 0; i < n; i++)
         if (b.q[i] == 0) slept[i] += t - b.stuck_since[i];
     totals[T_TIME] = t;
     totals[T_PLATE_WORK] = b.W;
     totals[T_DISSIPATED] = b.D;
     totals[T_E_END] = stored_energy(&b, t);
-    totals[T_STEPS] = (double)steps;
-    totals[T_REJECTED] = (double)b.s.n_rejected;
-    totals[T_RHS] = (double)b.s.n_rhs;
+    totals[T_STEPS] = b.steps;
+    totals[T_REJECTED] = b.rejected;
+    totals[T_RHS] = b.rhs_count;
     totals[T_BLOCK_RHS] = b.block_rhs;
     totals[T_SLIPS_DROPPED] = (double)b.sl_dropped;
-    totals[T_STATUS] = status;
     totals[T_CREATED] = (double)b.created;
     totals[T_SLIDES] = (double)b.sl_count;
+    totals[T_SLIDING] = b.sliding;
 done:
     totals[T_STATUS] = status;
-    mf_dopri_free(&b.s);
-    free(b.v); free(b.xs); free(b.q); free(b.mov); free(b.pos); free(b.watch);
+    for (k = 0; k < b.gcap; k++) {
+        mf_dopri_free(&b.G[k].s);
+        free(b.G[k].mov); free(b.G[k].hit); free(b.G[k].dir);
+        free(b.G[k].y); free(b.G[k].yd);
+    }
+    free(b.G);
+    free(b.v); free(b.xs); free(b.q); free(b.gid); free(b.pos); free(b.watch);
     free(b.wmark); free(b.tmin); free(b.targ); free(b.label); free(b.last_ev);
     free(b.seg_x); free(b.seg_t); free(b.stuck_since); free(b.parent); free(b.active);
-    free(b.y); free(b.yd); free(b.z_ref); free(b.z_b); free(b.z_ev); free(b.work);
-    free(b.todo); free(b.dir);
+    free(b.stack); free(b.z_ref); free(b.z_b); free(b.z_ev); free(b.work);
     return rc;
 }
 
