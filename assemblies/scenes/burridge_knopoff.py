@@ -175,7 +175,14 @@ def gutenberg_richter_b(moments: np.ndarray, lo: float, hi: float) -> tuple[floa
 
     def score(b):  # d/db of the mean log-likelihood of the truncated Pareto density
         return 1 / b - mean_log - math.log(r) * r**-b / (1 - r**-b)
-    b = brentq(score, 1e-3, 20.0)
+    # the density's b may come out negative in a short stretch (more large than small
+    # events there): the likelihood is the same formula on either side of 0
+    for lo_b, hi_b in ((1e-3, 20.0), (-20.0, -1e-3)):
+        if score(lo_b) * score(hi_b) < 0:
+            b = brentq(score, lo_b, hi_b)
+            break
+    else:
+        return math.nan, math.nan, int(k)
     info = 1 / b**2 - math.log(r)**2 * r**-b / (1 - r**-b)**2
     return b, 1 / math.sqrt(k * info) if info > 0 else math.nan, int(k)
 
@@ -231,7 +238,10 @@ def small_event_b(cat: np.ndarray, sigma: float, ell: float, batches: int = 10) 
     edges = np.linspace(cat["start"][0], cat["start"][-1], batches + 1) if cat.size else []
     parts = [gutenberg_richter_b(cat["moment"][(cat["start"] >= a) & (cat["start"] <= z)],
                                  lo, hi)[0] for a, z in zip(edges[:-1], edges[1:])]
-    spread = float(np.std(parts, ddof=1) / math.sqrt(batches)) if len(parts) > 1 else math.nan
+    parts = [p for p in parts if math.isfinite(p)]  # a stretch with too few events: out
+    spread = (float(np.std(parts, ddof=1) / math.sqrt(len(parts))) if len(parts) >= 3
+              else math.nan)
+    batches = max(len(parts), 2)
     quantile = float(student.ppf(0.995, batches - 1))
     return Figure("b", f"Gutenberg-Richter b of the {used} events with moment in "
                   f"[{lo:.2g}, {hi:.2g}] (maximum likelihood; accuracy: 99% half-width, "

@@ -129,6 +129,9 @@ def test_b_estimate_recovers_a_known_power_law():
     assert used == m.size
     assert abs(est - b) < 3 * err and err < 0.02
     assert math.isnan(gutenberg_richter_b(m[:5], lo, hi)[0])
+    # a stretch with more large than small events: a negative b, not an exception
+    rising = hi * (lo / hi) ** rng.uniform(size=200) ** 3
+    assert gutenberg_richter_b(rising, lo, hi)[0] < 0
 
 
 def test_blocks_past_their_thresholds_at_the_start_slide_as_one_event():

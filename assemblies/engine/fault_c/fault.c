@@ -94,6 +94,7 @@ typedef struct {
     group *G;
     int ng, gcap, cur;
     int *stack, sp;     /* crossings being applied (nested when groups meet) */
+    int *tmp;           /* a group's blocks in order, when it splits */
     /* events */
     int *label;          /* event of a sliding block */
     int *last_ev;        /* the event a block last joined (-1 none) */
@@ -478,6 +479,41 @@ static int start_block(bk *b, int j, int dir, double t)
     return 0;
 }
 
+static int by_index(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* a group whose blocks have come apart (two or more stuck blocks between neighbours: no
+   block is watched from both sides) goes on as separate groups, each on its own clock
+   from t; returns -1 on no memory */
+static int split(bk *b, int g, double t)
+{
+    int nm = b->G[g].nm, k, start = 0, first = 1;
+    if (nm < 2) return 0;
+    memcpy(b->tmp, b->G[g].mov, (size_t)nm * sizeof(int));
+    qsort(b->tmp, (size_t)nm, sizeof(int), by_index);
+    for (k = 1; k < nm; k++)
+        if (b->tmp[k] - b->tmp[k - 1] > 2) break;
+    if (k == nm) return 0; /* still one piece */
+    b->G[g].nm = 0;
+    b->G[g].fresh = 1;
+    for (k = 1; k <= nm; k++) {
+        if (k < nm && b->tmp[k] - b->tmp[k - 1] <= 2) continue;
+        {
+            int h = first ? g : group_new(b, t), m;
+            if (h < 0) return -1;
+            for (m = start; m < k; m++)
+                if (group_add(b, h, b->tmp[m]) != 0) return -1;
+            b->G[h].s.h_guess = b->G[g].s.h_guess;
+        }
+        first = 0;
+        start = k;
+    }
+    return 0;
+}
+
 /* the crossings group g located at t, applied (g committed at t); copied to the stack
    first: meeting groups may apply theirs in between */
 static int apply_events(bk *b, int g, double t)
@@ -500,7 +536,7 @@ static int apply_events(bk *b, int g, double t)
         }
     }
     b->sp = base;
-    return 0;
+    return b->G[g].live ? split(b, g, t) : 0;
 }
 
 /* ---- one group's step -------------------------------------------------------------- */
@@ -676,6 +712,7 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     b.active = grab((size_t)cap, sizeof(int), &failed);
     /* crossings on the stack: at most one per sliding block and two per watched one */
     b.stack = grab(6 * (size_t)n + 16, sizeof(int), &failed);
+    b.tmp = grab((size_t)n, sizeof(int), &failed);
     b.z_ref = grab(3 * (size_t)n, sizeof(double), &failed);
     b.z_b = grab(3 * (size_t)n, sizeof(double), &failed);
     b.z_ev = grab(3 * (size_t)n, sizeof(double), &failed);
@@ -775,7 +812,7 @@ done:
     free(b.v); free(b.xs); free(b.q); free(b.gid); free(b.pos); free(b.watch);
     free(b.wmark); free(b.tmin); free(b.targ); free(b.label); free(b.last_ev);
     free(b.seg_x); free(b.seg_t); free(b.stuck_since); free(b.parent); free(b.active);
-    free(b.stack); free(b.z_ref); free(b.z_b); free(b.z_ev); free(b.work);
+    free(b.stack); free(b.tmp); free(b.z_ref); free(b.z_b); free(b.z_ev); free(b.work);
     return rc;
 }
 
