@@ -9,7 +9,9 @@ The scene (n = 2, in ``me``, ``monolithic`` or ``cosim``) runs the chain as FMUs
 holds its slides to an independent scipy integration of the equations
 (:mod:`.fault_references`) and its first break-away to the closed form; beside it the
 event-driven fault solver (:mod:`assemblies.engine.fault`) runs the same values, held
-to the same reference and to the energy balance. Large chains (n up to 1e5 and more)
+to the same reference and to the energy balance. Another length or other values run
+the same way: ``run_scene_full(dataclasses.replace(scene("burridge_knopoff"),
+build=lambda: fault_chain(6, ...)), mode="me")``. Large chains (n up to 1e5 and more)
 are the fault solver's alone: :func:`fault_study` runs one, measures the size
 distribution against Carlson & Langer's scaling and draws the catalogue;
 ``python -m assemblies.scenes.burridge_knopoff --n 1000 --events 10000 --out DIR``.

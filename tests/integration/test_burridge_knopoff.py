@@ -27,6 +27,21 @@ def test_every_figure_passes_in_every_mode(mode):
     assert "9 slides" in figures["slides"].description
 
 
+@pytest.mark.parametrize("n", [1, 6])
+def test_other_chain_lengths_as_fmus(n):
+    """The scene's figures for a chain of another length (fault_chain), in me: the FMUs'
+    slides against scipy's, slide by slide, and the fault solver's too."""
+    import dataclasses
+    from assemblies.scenes import scene
+    from assemblies.scenes.burridge_knopoff import fault_chain
+    chain = dataclasses.replace(scene("burridge_knopoff"), name=f"burridge_knopoff_{n}",
+                                build=lambda: fault_chain(n, ell=1.0, sigma=0.1, nu=0.05,
+                                                          heterogeneity=0.05),
+                                record=None)
+    run = run_scene_full(chain, mode="me", stop_time=60.0)
+    assert run.passed, run.table()
+
+
 def test_the_block_fmu_is_the_seeds_stick_slip():
     """One FaultBlock with no weakening is seed 9.2's block: F_s = mu_s m g = 0.4,
     sigma = 1 - mu_k / mu_s = 0.25, pulled at 0.05 m/s through kp = 1."""
