@@ -23,7 +23,8 @@
    delocalised events, the largest moment; with ``--plots``, the distributions.
 
 CPU times are ``time.process_time`` around the one C call (the fault solver) or the whole
-scipy loop; the machine is shared, so each figure is the least of R rounds.
+scipy loop; the machine is shared, so each figure is the least of R rounds. Every run is
+Carlson & Langer's model (no backward slides), as fault_study runs it.
 """
 from __future__ import annotations
 
@@ -80,7 +81,7 @@ def _warm(n: int, seed: int = 1):
     F, law = thresholds(n, 1.0, 0.01, seed), carlson_langer()
     x, travelled = np.zeros(n), 0.0
     while travelled < 2.5:
-        r = run_fault(F, **law, tol=TOL, max_events=1000, x0=x, slides=0)
+        r = run_fault(F, **law, tol=TOL, max_events=1000, x0=x, slides=0, backward=False)
         x = r.x - law["V"] * r.totals["time"]
         travelled += law["V"] * r.totals["time"]
     return F, law, x
@@ -93,7 +94,8 @@ def scaling(repeats: int, sizes=SIZES, events: int = SCALING_EVENTS) -> dict:
     for _ in range(repeats):  # round-robin: a change in the machine's load touches every n
         for n in sizes:
             F, law, x = warm[n]
-            r = run_fault(F, **law, tol=TOL, max_events=events, x0=x, slides=0)
+            r = run_fault(F, **law, tol=TOL, max_events=events, x0=x, slides=0,
+                          backward=False)
             cpu[n].append(r.settings["cpu_s"] / r.settings["events"])
             last[n] = r
     rows = []
@@ -127,12 +129,12 @@ def versus_scipy(repeats: int, n: int = SCIPY_N, slides: int = SCIPY_SLIDES) -> 
     F, law, x = _warm(n)
     started = time.process_time()
     ref, _ = scipy_slides(F, **law, stop_time=1e9, x0=x, rtol=TOL, atol=TOL,
-                          max_slides=slides, method="RK45")
+                          max_slides=slides, method="RK45", backward=False)
     cpu_scipy = time.process_time() - started
     span = ref[-1][2]
     cpu = []
     for _ in range(repeats):
-        r = run_fault(F, **law, tol=TOL, stop_time=span, x0=x)
+        r = run_fault(F, **law, tol=TOL, stop_time=span, x0=x, backward=False)
         cpu.append(r.settings["cpu_s"])
     ends_ref = np.array([s[2] for s in ref])
     ends = np.sort(r.slides["t1"])

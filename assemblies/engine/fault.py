@@ -30,7 +30,7 @@ from ..assembly import AssemblyError
 
 C_FILE = Path(__file__).parent / "fault_c" / "fault.c"
 _RUNTIME = ("events", "solver")  # the FMU runtime's DOPRI5 and event location, shared
-PARAMS = ("m", "kc", "kp", "V", "sigma", "alpha", "vw", "tol", "stop_time")
+PARAMS = ("m", "kc", "kp", "V", "sigma", "alpha", "vw", "tol", "stop_time", "backward")
 TOTALS = ("time", "plate_work", "dissipated", "E_start", "E_end", "steps", "rejected",
           "rhs", "block_rhs", "located", "breakaways", "slips_dropped", "status", "created",
           "slides", "sliding")
@@ -95,10 +95,14 @@ def _positive(name: str, value: float, strict: bool = True) -> float:
 def run_fault(F, *, m: float = 1.0, kc: float = 100.0, kp: float = 1.0, V: float = 0.01,
               sigma: float = 0.01, alpha: float = 2.5, vw: float = 1.0, tol: float = 1e-8,
               stop_time: float = math.inf, max_events: int | None = None, x0=None,
-              max_steps: int = 50_000_000, slides: int = 200_000) -> FaultRun:
+              max_steps: int = 50_000_000, slides: int = 200_000,
+              backward: bool = True) -> FaultRun:
     """Run the chain with thresholds `F` (one per block) from rest at `x0` (default 0)
     until `stop_time` or until `max_events` slip events have ended (one is needed).
-    `slides`: how many single-block slides to keep for the space-time picture."""
+    `slides`: how many single-block slides to keep for the space-time picture.
+    `backward`: True, friction holds both ways with the same law (exact Coulomb modes,
+    as FaultBlock); False, a block never slides backward (Carlson & Langer's model, whose
+    friction is unbounded for v < 0: a block pushed back stays stuck)."""
     F = np.ascontiguousarray(F, dtype=np.float64)
     n = F.size
     if F.ndim != 1 or n < 1 or not np.all(np.isfinite(F)) or np.any(F <= 0):
@@ -129,7 +133,7 @@ def run_fault(F, *, m: float = 1.0, kc: float = 100.0, kp: float = 1.0, V: float
     # events are created as they start: room for the asked count, events still sliding at
     # the end, and merged ones; a time-limited run grows its catalogue by rerunning
     cap = min(wanted, 10_000_000) + n + 1000 if max_events is not None else 100_000 + n
-    par = np.array([values[k] for k in PARAMS[:-1]] + [stop_time])
+    par = np.array([values[k] for k in PARAMS[:-2]] + [stop_time, 1.0 if backward else 0.0])
     lib = library()
     while True:
         ev = {k: np.zeros(cap) for k in ("start", "end", "moment", "energy")}
@@ -174,6 +178,7 @@ def run_fault(F, *, m: float = 1.0, kc: float = 100.0, kp: float = 1.0, V: float
                     cpu_s=cpu, wall_s=wall, events=int(catalogue.size),
                     steps=int(tot["steps"]), rhs=int(tot["rhs"]),
                     block_rhs=int(tot["block_rhs"]), located=int(tot["located"]),
+                    backward=bool(backward),
                     slept_fraction={"min": float(slept.min() / run_time) if run_time else 1.0,
                                     "mean": float(slept.mean() / run_time) if run_time else 1.0,
                                     "max": float(slept.max() / run_time) if run_time else 1.0})

@@ -192,9 +192,12 @@ def gutenberg_richter_b(moments: np.ndarray, lo: float, hi: float) -> tuple[floa
 def fault_study(n: int = 1000, events: int = 10_000, *, ell: float = 10.0,
                 alpha: float = 2.5, sigma: float = 0.01, nu: float = 0.01,
                 heterogeneity: float = 0.01, seed: int = 1, tol: float = 1e-8,
-                warmup: float | None = None) -> tuple[FaultRun, list[Figure]]:
+                warmup: float | None = None,
+                backward: bool = False) -> tuple[FaultRun, list[Figure]]:
     """Run `events` slip events after a warm-up and measure the figures: the energy
-    balance and the small events' b against Carlson & Langer's b = 1.
+    balance and the small events' b against Carlson & Langer's b = 1. As in their model,
+    blocks never slide backward unless `backward` (then friction holds both ways, as
+    FaultBlock's exact Coulomb modes do).
 
     The warm-up lets the chain forget its uniform start: until the plate has moved
     `warmup` (default 2.5 / nu, i.e. 2.5 F0/kp: every leaf spring reloaded past its
@@ -207,11 +210,11 @@ def fault_study(n: int = 1000, events: int = 10_000, *, ell: float = 10.0,
     law = carlson_langer(ell, alpha, sigma, nu)
     x, travelled, chunks = np.zeros(n), 0.0, 0
     while travelled < warmup * nu and nu > 0:
-        r = run_fault(F, **law, tol=tol, max_events=1000, x0=x, slides=0)
+        r = run_fault(F, **law, tol=tol, max_events=1000, x0=x, slides=0, backward=backward)
         x = r.x - law["V"] * r.totals["time"]
         travelled += law["V"] * r.totals["time"]
         chunks += 1
-    run = run_fault(F, **law, tol=tol, max_events=events, x0=x)
+    run = run_fault(F, **law, tol=tol, max_events=events, x0=x, backward=backward)
     run.settings.update(warmup_travel=travelled, warmup_runs=chunks, ell=ell, nu=nu,
                         heterogeneity=heterogeneity, seed=seed)
     t = run.totals
@@ -366,12 +369,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--heterogeneity", type=float, default=0.01)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--tol", type=float, default=1e-8)
+    ap.add_argument("--backward", action="store_true",
+                    help="friction holds both ways (exact Coulomb, as FaultBlock); default: "
+                         "Carlson & Langer's blocks, which never slide backward")
     ap.add_argument("--out", type=Path)
     a = ap.parse_args(argv)
     try:
         run, figures = fault_study(a.n, a.events, ell=a.ell, alpha=a.alpha, sigma=a.sigma,
                                    nu=a.nu, heterogeneity=a.heterogeneity, seed=a.seed,
-                                   tol=a.tol)
+                                   tol=a.tol, backward=a.backward)
     except FaultError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -19,11 +19,12 @@ def _kinetic(F, sigma, alpha, vw, w):
 
 
 def scipy_slides(F, *, m, kc, kp, V, sigma, alpha, vw, stop_time, x0=None,
-                 rtol=1e-11, atol=1e-13, max_slides=None, method="DOP853"):
+                 rtol=1e-11, atol=1e-13, max_slides=None, method="DOP853", backward=True):
     """Every slide of every block up to `stop_time` (or `max_slides` ended): a list of
     (block, t_start, t_end, slip), in the order they end; and the final x.
 
-    Free chain ends; blocks start stuck at `x0` (default 0), with v = 0.
+    Free chain ends; blocks start stuck at `x0` (default 0), with v = 0. `backward`
+    False: a block never slides backward (Carlson & Langer), pushed back it stays stuck.
     """
     from scipy.integrate import solve_ivp  # scipy: only for a reference run
 
@@ -67,18 +68,20 @@ def scipy_slides(F, *, m, kc, kp, V, sigma, alpha, vw, stop_time, x0=None,
                 def forward(t, y, i=i):
                     return F[i] - applied(t, y[:n], i)
 
-                def backward(t, y, i=i):
-                    return F[i] + applied(t, y[:n], i)
-                forward.terminal = backward.terminal = True
-                forward.direction = backward.direction = -1
-                evs += [forward, backward]
+                def back(t, y, i=i):
+                    # only forward slides: a constant, which never crosses, keeps the
+                    # events two per stuck block
+                    return F[i] + applied(t, y[:n], i) if backward else 1.0
+                forward.terminal = back.terminal = True
+                forward.direction = back.direction = -1
+                evs += [forward, back]
         return evs
 
     slides, seg = [], {}
     t = 0.0
     for i in range(n):  # already past a threshold at the start
         A = applied(0.0, x, i)
-        if abs(A) >= F[i]:
+        if A >= F[i] or (backward and A <= -F[i]):
             q[i], seg[i] = (1 if A > 0 else -1), (0.0, x[i])
     while t < stop_time and (max_slides is None or len(slides) < max_slides):
         if not q.any():  # all stuck: the earliest break-away in closed form
@@ -116,7 +119,7 @@ def scipy_slides(F, *, m, kc, kp, V, sigma, alpha, vw, stop_time, x0=None,
             A = applied(t, x, block)
             if A >= F[block]:
                 q[block] = 1
-            elif A <= -F[block]:
+            elif backward and A <= -F[block]:
                 q[block] = -1
             else:
                 t0, x_start = seg.pop(block)

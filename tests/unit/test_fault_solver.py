@@ -163,3 +163,21 @@ def test_groups_on_their_own_clocks_follow_scipy(seed):
     apart = [(a, c) for a in got for c in got
              if abs(a[0] - c[0]) >= 3 and a[1] < c[2] and c[1] < a[2]]
     assert apart
+
+
+@pytest.mark.parametrize("backward", [True, False])
+def test_backward_slides_as_asked_follow_scipy(backward):
+    """A block displaced ahead of its neighbours is pushed back past its threshold: with
+    friction both ways it slides backward; in Carlson & Langer's model (backward=False)
+    it stays stuck. Either way every slide against solve_ivp written the same way."""
+    tol, stop = 1e-10, 40.0
+    F, x0 = np.array([1.0, 1.1, 0.9]), np.array([0.0, 1.5, 0.0])
+    run = run_fault(F, **CHAIN2, tol=tol, stop_time=stop, x0=x0, backward=backward)
+    ref, _ = scipy_slides(F, **CHAIN2, stop_time=stop, x0=x0, rtol=tol / 100,
+                          atol=tol / 1e4, backward=backward)
+    got = sorted(((int(s["block"]), s["t0"], s["t1"], s["slip"]) for s in run.slides),
+                 key=lambda s: s[2])
+    assert len(got) == len(ref) >= 3
+    for (b, t0, t1, slip), (rb, rt0, rt1, rslip) in zip(got, ref):
+        assert b == rb and abs(t1 - rt1) < 100 * tol * stop and abs(slip - rslip) < 1e-6
+    assert np.any(run.slides["slip"] < 0) == backward

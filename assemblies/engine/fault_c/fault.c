@@ -51,7 +51,9 @@
 #define EXPORT __attribute__((visibility("default")))
 
 /* parameters, in the order par[] carries them */
-enum { P_M, P_KC, P_KP, P_V, P_SIGMA, P_ALPHA, P_VW, P_TOL, P_TSTOP, P_COUNT };
+enum { P_M, P_KC, P_KP, P_V, P_SIGMA, P_ALPHA, P_VW, P_TOL, P_TSTOP, P_BACKWARD, P_COUNT };
+/* P_BACKWARD: 1, friction holds both ways (Coulomb, as the component); 0, a block never
+   slides backward (Carlson & Langer: the friction for v < 0 is unbounded) */
 /* totals[], what the run reports beyond the catalogue */
 enum { T_TIME, T_PLATE_WORK, T_DISSIPATED, T_E_START, T_E_END, T_STEPS, T_REJECTED,
        T_RHS, T_BLOCK_RHS, T_LOCATED, T_BREAKAWAYS, T_SLIPS_DROPPED, T_STATUS, T_CREATED,
@@ -80,6 +82,7 @@ typedef struct {
 typedef struct {
     int n;
     double m, kc, kp, V, sigma, alpha, vw, tol;
+    int backward;
     const double *F;
     double *x, *v, *xs; /* xs: stage positions for sliding blocks, x for stuck ones */
     int *q;             /* -1, 0, +1 */
@@ -389,7 +392,7 @@ static void stopped(bk *b, int i, double t)
     b->v[i] = 0.0;
     b->G[b->gid[i]].fresh = 1;
     if (A >= b->F[i]) b->q[i] = 1;
-    else if (A <= -b->F[i]) b->q[i] = -1;
+    else if (b->backward && A <= -b->F[i]) b->q[i] = -1;
     else stick(b, i, t);
 }
 
@@ -590,7 +593,7 @@ static void indicators_at(bk *b, const group *G, double t, const double *y, doub
         int j = b->watch[k];
         double A = coupling(b, b->xs, j) + b->kp * (b->V * t - b->x[j]);
         z[nm + 2 * k] = b->F[j] - A;
-        z[nm + 2 * k + 1] = b->F[j] + A;
+        z[nm + 2 * k + 1] = b->backward ? b->F[j] + A : 1.0;
     }
 }
 
@@ -688,6 +691,7 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     b.n = n;
     b.m = par[P_M]; b.kc = par[P_KC]; b.kp = par[P_KP]; b.V = par[P_V];
     b.sigma = par[P_SIGMA]; b.alpha = par[P_ALPHA]; b.vw = par[P_VW]; b.tol = par[P_TOL];
+    b.backward = par[P_BACKWARD] != 0.0;
     b.F = F; b.x = x; b.cap = cap; b.max_events = max_events;
     b.ev_start = ev_start; b.ev_end = ev_end; b.ev_moment = ev_moment;
     b.ev_energy = ev_energy; b.ev_blocks = ev_blocks; b.ev_first = ev_first;
@@ -735,7 +739,8 @@ EXPORT int mf_fault_run(int n, const double *par, const double *F, double *x,
     /* blocks already at or past their thresholds at t = 0 start at once */
     for (i = 0; i < n; i++) {
         double A = coupling(&b, b.x, i) - b.kp * b.x[i];
-        if (b.q[i] == 0 && fabs(A) >= F[i] && start_block(&b, i, A > 0 ? 1 : -1, 0.0) != 0) {
+        if (b.q[i] == 0 && (A >= F[i] || (b.backward && A <= -F[i])) &&
+            start_block(&b, i, A > 0 ? 1 : -1, 0.0) != 0) {
             status = 2;
             goto finish;
         }
