@@ -96,5 +96,8 @@ SCENE_INDEX = {
     'string_body': ('bodies_exercises',
         'seed 8.6 ex. 5: a box hung from a point on its surface by a damped elastic '
         'string: energy falls, not to zero; vertical H about the support kept'),
+    'burridge_knopoff': ('burridge_knopoff',
+        'issue 30: Burridge-Knopoff chain, C&L velocity-weakening friction, exact stick-'
+        'slip'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

@@ -31,7 +31,8 @@ _REGISTERED = (
     "RodOnRollers", "ConeOnIncline", "RollingCoin", "TorqueFreeBody", "NutationDamperBody",
     "WobblingDisk", "RigidBodyOnString",
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
-    "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable")
+    "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
+    "FaultBlock")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

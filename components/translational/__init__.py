@@ -1,5 +1,5 @@
 """Translational elements (MSL ``Modelica.Mechanics.Translational.Components``): springs,
-dampers, masses with friction and the seed's spring-block.
+dampers, masses with friction, the seed's spring-block and the Burridge-Knopoff block.
 
 Names are imported on first use (PEP 562), like the top-level ``components``.
 """
@@ -9,6 +9,7 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "FaultBlock": ".fault_block",
     "MassWithFriction": ".elements",
     "Spring": ".elements",
     "SpringDamper": ".elements",
