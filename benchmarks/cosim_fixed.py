@@ -16,8 +16,13 @@ the default's), their rows at every n-th step compared; n stops growing once a r
 dearer than every co-simulation run. The error is :func:`benchmarks.joined.deviation`
 against the composite FMU at 1e-12. Times are process CPU times, taken round-robin over
 every run of a scene ``--repeats`` times (the machine is shared): the median, with the
-spread (max - min) / median. "doSteps per step" counts: doSteps over communication steps
-tried (accepted and rejected) and instances, 1 for a fixed step, 3 for step doubling.
+spread (max - min) / median; each ratio with its range over the repeats (the extremes of
+one run's times over the other's). "doSteps per step" counts: doSteps over communication
+steps tried (accepted and rejected) and instances, 1 for a fixed step, 3 for step
+doubling, less where unjudged steps follow an accepted estimate (COAST_STEPS in
+assemblies/masters/adaptive.py). "fixed/comp": the cheapest fixed step at the cosim
+run's error over the composite at that error, what co-simulation with no estimate at
+all would cost: the bound of any step control on the same coupling.
 """
 from __future__ import annotations
 
@@ -116,7 +121,8 @@ def measure_scene(name: str, repeats: int) -> list[dict]:
         cpu = samples[id(run)] or [run["cpu_first"]]
         med = statistics.median(cpu)
         rec = {k: v for k, v in run.items() if k != "call"}
-        rec.update(scene=name, cpu_s=med, spread=(max(cpu) - min(cpu)) / med if med else 0.0)
+        rec.update(scene=name, cpu_s=med, spread=(max(cpu) - min(cpu)) / med if med else 0.0,
+                   cpu_samples=cpu)
         out.append(rec)
     return out
 
@@ -124,6 +130,12 @@ def measure_scene(name: str, repeats: int) -> list[dict]:
 def cheapest_at(records: list[dict], mode: str, error: float) -> dict | None:
     fits = [r for r in records if r["mode"] == mode and r["error"] <= error]
     return min(fits, key=lambda r: r["cpu_s"]) if fits else None
+
+
+def ratio_range(a: dict, b: dict) -> tuple[float, float]:
+    """The extremes of a's CPU time over b's across the repeats (round-robin)."""
+    sa, sb = a.get("cpu_samples") or [a["cpu_s"]], b.get("cpu_samples") or [b["cpu_s"]]
+    return min(sa) / max(sb), max(sa) / min(sb)
 
 
 def compare(records: list[dict]) -> list[dict]:
@@ -141,6 +153,13 @@ def compare(records: list[dict]) -> list[dict]:
                    composite_tol=comp["setting"] if comp else None,
                    composite_cpu_s=comp["cpu_s"] if comp else None,
                    vs_composite=r["cpu_s"] / comp["cpu_s"] if comp else math.nan)
+        row["vs_fixed_range"] = ratio_range(r, fixed) if fixed else None
+        row["vs_composite_range"] = ratio_range(r, comp) if comp else None
+        # what a master with no estimate at all (fixed steps of the right length) costs
+        # against the composite at this error: the bound of any step control on the
+        # same coupling (zero-order / linear extrapolation, one doStep per step)
+        row["fixed_vs_composite"] = (fixed["cpu_s"] / comp["cpu_s"] if fixed and comp
+                                     else math.nan)
         # no fixed step reaches the error within the budget: fixed steps lose
         row["fixed_met"] = not fixed or row["vs_fixed"] <= TARGET_FIXED
         row["composite_met"] = (r["setting"] != COMPOSITE_TOL
@@ -151,8 +170,12 @@ def compare(records: list[dict]) -> list[dict]:
 
 def report(rows: list[dict], records: list[dict]) -> str:
     lines = [f"{'scene':22s} {'tol':>6s} {'error':>9s} {'cpu ms':>9s} {'spread':>6s} "
-             f"{'doSt/st':>7s} {'fixed (h=step/n)':>19s} {'vs fixed':>8s} "
-             f"{'composite':>19s} {'vs comp':>8s}"]
+             f"{'doSt/st':>7s} {'fixed (h=step/n)':>19s} {'vs fixed (range)':>20s} "
+             f"{'composite':>19s} {'vs comp (range)':>22s} {'fixed/comp':>10s}"]
+
+    def rng(value, bounds, width):
+        text = f"{value:.2f}" + (f" ({bounds[0]:.2f}-{bounds[1]:.2f})" if bounds else "")
+        return f"{text:>{width}s}"
     for r in rows:
         fixed = (f"{r['fixed_cpu_s'] * 1e3:8.1f} ms n={r['fixed_n']:<4d}" if r["fixed_n"]
                  else f"{'none reaches it':>19s}")
@@ -160,7 +183,9 @@ def report(rows: list[dict], records: list[dict]) -> str:
                 if r["composite_tol"] else f"{'none reaches it':>19s}")
         lines.append(f"{r['scene']:22s} {r['tol']:6.0e} {r['error']:9.2e} {r['cpu_s'] * 1e3:9.1f} "
                      f"{r['spread']:6.2f} {r['do_steps_per_step']:7.2f} {fixed:>19s} "
-                     f"{r['vs_fixed']:8.2f} {comp:>19s} {r['vs_composite']:8.2f}"
+                     f"{rng(r['vs_fixed'], r.get('vs_fixed_range'), 20)} {comp:>19s} "
+                     f"{rng(r['vs_composite'], r.get('vs_composite_range'), 22)} "
+                     f"{r.get('fixed_vs_composite', math.nan):10.2f}"
                      f"{'' if r['fixed_met'] else '  SLOWER THAN FIXED'}"
                      f"{'' if r['composite_met'] else '  > 20x COMPOSITE'}")
     lines.append("")
