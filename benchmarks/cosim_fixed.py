@@ -22,7 +22,8 @@ steps tried (accepted and rejected) and instances, 1 for a fixed step, 3 for ste
 doubling, less where unjudged steps follow an accepted estimate (COAST_STEPS in
 assemblies/masters/adaptive.py). "fixed/comp": the cheapest fixed step at the cosim
 run's error over the composite at that error, what co-simulation with no estimate at
-all would cost: the bound of any step control on the same coupling.
+all would cost: the bound of any step control on the same coupling. "interp.": the
+cosim run over a fixed step of exactly its error (:func:`fixed_cost_at`).
 """
 from __future__ import annotations
 
@@ -138,6 +139,20 @@ def ratio_range(a: dict, b: dict) -> tuple[float, float]:
     return min(sa) / max(sb), max(sa) / min(sb)
 
 
+def fixed_cost_at(records: list[dict], error: float) -> float:
+    """CPU time of a fixed step with exactly this error: log-log between the two fixed
+    runs that bracket it (their error goes as a power of h, and so does their cost);
+    NaN outside the runs measured. The cheapest run that reaches the error (what the
+    target is judged on) can be up to one rung of DIVISIONS dearer than this."""
+    pts = sorted((r["error"], r["cpu_s"]) for r in records
+                 if r["mode"] == "fixed" and 0.0 < r["error"] < math.inf)
+    for (e1, c1), (e2, c2) in zip(pts, pts[1:]):
+        if e1 <= error <= e2 and e1 < e2:
+            w = math.log(error / e1) / math.log(e2 / e1)
+            return math.exp(math.log(c1) + w * math.log(c2 / c1))
+    return math.nan
+
+
 def compare(records: list[dict]) -> list[dict]:
     rows = []
     for r in records:
@@ -154,6 +169,7 @@ def compare(records: list[dict]) -> list[dict]:
                    composite_cpu_s=comp["cpu_s"] if comp else None,
                    vs_composite=r["cpu_s"] / comp["cpu_s"] if comp else math.nan)
         row["vs_fixed_range"] = ratio_range(r, fixed) if fixed else None
+        row["vs_fixed_interpolated"] = r["cpu_s"] / fixed_cost_at(same, r["error"])
         row["vs_composite_range"] = ratio_range(r, comp) if comp else None
         # what a master with no estimate at all (fixed steps of the right length) costs
         # against the composite at this error: the bound of any step control on the
@@ -171,7 +187,7 @@ def compare(records: list[dict]) -> list[dict]:
 def report(rows: list[dict], records: list[dict]) -> str:
     lines = [f"{'scene':22s} {'tol':>6s} {'error':>9s} {'cpu ms':>9s} {'spread':>6s} "
              f"{'doSt/st':>7s} {'fixed (h=step/n)':>19s} {'vs fixed (range)':>20s} "
-             f"{'composite':>19s} {'vs comp (range)':>22s} {'fixed/comp':>10s}"]
+             f"{'interp.':>7s} {'composite':>19s} {'vs comp (range)':>22s} {'fixed/comp':>10s}"]
 
     def rng(value, bounds, width):
         text = f"{value:.2f}" + (f" ({bounds[0]:.2f}-{bounds[1]:.2f})" if bounds else "")
@@ -183,7 +199,8 @@ def report(rows: list[dict], records: list[dict]) -> str:
                 if r["composite_tol"] else f"{'none reaches it':>19s}")
         lines.append(f"{r['scene']:22s} {r['tol']:6.0e} {r['error']:9.2e} {r['cpu_s'] * 1e3:9.1f} "
                      f"{r['spread']:6.2f} {r['do_steps_per_step']:7.2f} {fixed:>19s} "
-                     f"{rng(r['vs_fixed'], r.get('vs_fixed_range'), 20)} {comp:>19s} "
+                     f"{rng(r['vs_fixed'], r.get('vs_fixed_range'), 20)} "
+                     f"{r.get('vs_fixed_interpolated', math.nan):7.2f} {comp:>19s} "
                      f"{rng(r['vs_composite'], r.get('vs_composite_range'), 22)} "
                      f"{r.get('fixed_vs_composite', math.nan):10.2f}"
                      f"{'' if r['fixed_met'] else '  SLOWER THAN FIXED'}"
