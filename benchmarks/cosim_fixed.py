@@ -2,8 +2,9 @@
 error (issue 27).
 
     python -m benchmarks.cosim_fixed [--scenes NAME …] [--repeats N] [--json FILE]
+                                     [--extrapolation 0|1|2]
 
-Targets: on every joined scene the default co-simulation (adaptive, linear
+Targets: on every joined scene the default co-simulation (adaptive, the default's input
 extrapolation, events synchronised) costs no more than the cheapest fixed communication
 step that reaches the same error (ratio <= 1), and at most 20x the composite FMU (the
 assembly joined into one FMU, ``--mode monolithic``) at the error of its run at
@@ -11,8 +12,8 @@ tolerance 1e-4.
 
 Every run is the compiled engine's master called on the scene's pruned assembly (what
 ``run_scene`` runs, without evaluating the figures), FMUs built and loaded by an untimed
-first call. Fixed steps are h = step / n (n = 1, 2, 3, 4, 6, 8, …; linear extrapolation,
-the default's), their rows at every n-th step compared; n stops growing once a run is far
+first call. Fixed steps are h = step / n (n = 1, 2, 3, 4, 6, 8, …; the same extrapolation
+as the adaptive runs, ``--extrapolation``, by default DEFAULT_SCHEME's), their rows at every n-th step compared; n stops growing once a run is far
 dearer than every co-simulation run. The error is :func:`benchmarks.joined.deviation`
 against the composite FMU at 1e-12. Times are process CPU times, taken round-robin over
 every run of a scene ``--repeats`` times (the machine is shared): the median, with the
@@ -36,7 +37,7 @@ import time
 
 import numpy as np
 
-from assemblies.engine.cosim import cosimulate
+from assemblies.engine.cosim import DEFAULT_SCHEME, cosimulate
 from assemblies.engine.me import simulate_monolithic
 from assemblies.pruning import prune_unrecorded
 from assemblies.result import Result
@@ -58,7 +59,8 @@ def _every_nth(result: Result, n: int) -> Result:
     return Result({c: np.asarray(result[c])[::n] for c in result.columns})
 
 
-def runners(name: str) -> tuple[list[dict], list[dict], int]:
+def runners(name: str, extrapolation: int = DEFAULT_SCHEME["extrapolation"]
+            ) -> tuple[list[dict], list[dict], int]:
     """The runs of one scene as records with a `call` (returns the result on the scene's
     output grid), the fixed-step runs (finest last), and the number of instances."""
     sc = get_scene(name)
@@ -66,12 +68,13 @@ def runners(name: str) -> tuple[list[dict], list[dict], int]:
     common = dict(stop_time=sc.stop_time, tolerance=sc.tolerance, record=sc.record)
 
     def cosim(tol):
-        return lambda: cosimulate(asm, step=sc.step, adaptive=True, tol=tol, extrapolation=1,
+        return lambda: cosimulate(asm, step=sc.step, adaptive=True, tol=tol,
+                                  extrapolation=extrapolation,
                                   **common)
 
     def fixed(n):
         return lambda: _every_nth(cosimulate(asm, step=sc.step / n, adaptive=False,
-                                             extrapolation=1, **common), n)
+                                             extrapolation=extrapolation, **common), n)
 
     def composite(tol):
         return lambda: simulate_monolithic(asm, step=sc.step, **dict(common, tolerance=tol))
@@ -98,9 +101,10 @@ def _first(run: dict, ref, n_instances: int) -> None:
                    do_steps_per_step=s["do_steps"] / max(1, tried) / n_instances)
 
 
-def measure_scene(name: str, repeats: int) -> list[dict]:
+def measure_scene(name: str, repeats: int,
+                  extrapolation: int = DEFAULT_SCHEME["extrapolation"]) -> list[dict]:
     ref = reference(name)
-    runs, fixed_runs, n_instances = runners(name)
+    runs, fixed_runs, n_instances = runners(name, extrapolation)
     for run in runs:
         _first(run, ref, n_instances)
     cosims = [r for r in runs if r["mode"] == "cosim"]
@@ -220,16 +224,20 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--json", default="benchmarks/cosim_fixed.json")
+    ap.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
+                    default=DEFAULT_SCHEME["extrapolation"],
+                    help="input extrapolation of every run, adaptive and fixed (default: "
+                         "the default co-simulation's)")
     args = ap.parse_args(argv)
     records = []
     for name in args.scenes:
-        records += measure_scene(name, args.repeats)
+        records += measure_scene(name, args.repeats, args.extrapolation)
         print(f"  {name} measured", file=sys.stderr, flush=True)
     rows = compare(records)
     print(report(rows, records))
     with open(args.json, "w") as fh:
         json.dump({"records": records, "comparison": rows, "reference_tolerance":
-                   REFERENCE_TOLERANCE, "targets": {"vs_fixed": TARGET_FIXED,
+                   REFERENCE_TOLERANCE, "extrapolation": args.extrapolation, "targets": {"vs_fixed": TARGET_FIXED,
                                                     "vs_composite": TARGET_COMPOSITE}},
                   fh, indent=1)
     return 0
