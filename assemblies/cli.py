@@ -330,7 +330,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="co-simulation sweep (mode cosim only; default: jacobi)")
     r.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
                    help="order of the input extrapolation held over a step: 0 constant, "
-                        "1 linear, 2 quadratic (mode cosim only; default: 1 when adaptive, "
+                        "1 linear, 2 quadratic (mode cosim only; default: 2 when adaptive, "
                         "0 with --fixed-step)")
     steps = r.add_mutually_exclusive_group()
     steps.add_argument("--adaptive", type=float, nargs="?", const=1e-5, metavar="TOL",
