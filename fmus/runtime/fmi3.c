@@ -563,6 +563,22 @@ fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndica
                                       nEventIndicators));
 }
 
+/* Not FMI: mechfmu's engine looks this up by name in an FMU it runs alone and, where it
+   is there, calls it for each right-hand side and indicator sample instead of
+   fmi3SetTime, fmi3SetContinuousStates and the reads: one call through the library
+   boundary instead of four, each through the engine's and this file's wrappers and
+   checks, which cost more than a small model's right-hand side. derivatives or
+   eventIndicators NULL: not read. fmi3OK; fmi3Discard, with nothing logged, wherever one
+   of the four calls would refuse or fail: the caller makes them, and they say why. */
+__attribute__((visibility("default"))) fmi3Status
+mfEvaluateAt(fmi3Instance instance, fmi3Float64 time, const fmi3Float64 continuousStates[],
+             size_t nContinuousStates, fmi3Float64 derivatives[], fmi3Float64 eventIndicators[],
+             size_t nEventIndicators)
+{
+    return ST(mf_evaluate_at(INST(instance), time, continuousStates, nContinuousStates,
+                             derivatives, eventIndicators, nEventIndicators));
+}
+
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
                                    size_t nContinuousStates)
 {
