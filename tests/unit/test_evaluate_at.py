@@ -1,8 +1,8 @@
 """mfEvaluateAt, the engine's one-call path into an FMU of ours run alone (issue 27): at
 any point it gives what fmi3SetTime, fmi3SetContinuousStates,
 fmi3GetContinuousStateDerivatives and fmi3GetEventIndicators give through fmpy on the
-same instance, bit for bit; where one of those would refuse, it refuses with nothing
-logged, and the standard calls still say why. An engine run that takes it (FMI 3) and one
+same instance, bit for bit; where one of those would refuse, it refuses as that call does,
+with its message. An engine run that takes it (FMI 3) and one
 that cannot (FMI 2 has no such export) integrate the same model to the same bits."""
 from ctypes import POINTER, c_double, c_int, c_size_t, c_void_p
 
@@ -19,7 +19,7 @@ from assemblies.scenes import scene
 from components import RollingCoin, SpringBlock
 from fmus import build_fmu
 
-DISCARD = 2  # fmi3Discard
+ERROR = 3  # fmi3Error
 
 
 class Me3:
@@ -84,16 +84,21 @@ def test_one_call_gives_the_four_calls_bits(make, tmp_path):
     assert inst.messages == []
 
 
-def test_a_point_the_four_calls_refuse_is_refused_silently(tmp_path):
+def test_a_point_the_four_calls_refuse_is_refused_as_they_refuse_it(tmp_path):
+    """A state that is not finite: the status and the message of fmi3SetContinuousStates
+    itself (the one-call path declines such points and makes the calls)."""
     inst = Me3(SpringBlock(profile="driven_on_moving_support"), tmp_path)
     bad = [float("nan")] + [0.0] * (inst.n_x - 1)
     status, _, _ = inst.one_call(0.5, bad)
-    assert status == DISCARD and inst.messages == []  # the caller makes the standard calls...
+    assert status == ERROR
+    said = inst.messages[-1]
+    assert said.startswith("fmi3SetContinuousStates: ") and "is not finite" in said
+    inst.messages.clear()
     with pytest.raises(FMICallException):
         inst.fmu.setContinuousStates((c_double * inst.n_x)(*bad), inst.n_x)
-    assert "is not finite" in inst.messages[-1]  # ...which say why, naming the state
+    assert inst.messages == [said]
     status, _, _ = inst.one_call(float("inf"), [0.0] * inst.n_x)
-    assert status == DISCARD
+    assert status == ERROR and inst.messages[-1].startswith("fmi3SetTime: ")
 
 
 def test_an_engine_run_through_it_is_the_run_without_it():

@@ -904,8 +904,8 @@ int fmu_can_evaluate_at(const fmu_t *f) {
 
 int fmu_evaluate_at(fmu_t *f, double t, const double *x, size_t n, double *dx, double *z,
                     size_t nz) {
-    /* fmi3Discard where a separate call would refuse or fail: nothing logged, the
-       caller makes the separate calls, which say why */
+    /* where it fails, the FMU has said why; the caller makes the separate calls, so the
+       failure is reported where the engine reports each of them */
     if (f->v3.evaluate_at(f->instance, t, x, n, dx, z, nz) > fmi3Warning) return FMU_ERROR;
     f->message_is_error = 0; /* as check() after a call that succeeded */
     return FMU_OK;

@@ -143,8 +143,8 @@ int fmu_get_event_indicators(fmu_t *fmu, double *z, size_t n);
    runtime (it exports mfEvaluateAt). */
 int fmu_can_evaluate_at(const fmu_t *fmu);
 /* Time and states set, then the derivatives (dx != NULL) and the indicators (z != NULL)
-   read, in one call; FMU_OK, or nonzero without a message where one of the separate
-   calls would refuse or fail (the caller makes them: they say what failed). */
+   read, in one call; FMU_OK, or nonzero where one of the separate calls would refuse or
+   fail (the caller makes them: they say what failed, as without this call). */
 int fmu_evaluate_at(fmu_t *fmu, double t, const double *x, size_t n, double *dx, double *z,
                     size_t nz);
 int fmu_get_nominals(fmu_t *fmu, double *nominals, size_t n);
