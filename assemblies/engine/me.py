@@ -75,6 +75,7 @@ class _Plan:
         self.capped = True  # steps no longer than the output interval (step_limit_needed)
         self.rest_group = None  # eng_me_spec.rest_group (prepare.rest_groups); None: no rest
         self.grid = None  # ((stop time, step), buffers) of the last run (_buffers)
+        self.spec = None  # the MeSpec of the runs, its per-run fields set by each (run)
         self.keep = keep = B.Keep()
         self.names = [n for n, _, _ in instances]
         self.fmus = [f for _, f, _ in instances]
@@ -116,6 +117,7 @@ class _Plan:
         self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
                          in zip(couplings, continuous or []) if not needed]
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
+        self.labels = self.column_names  # the result's column names (a composite's: its own)
         self.column_vars = [(self.fmus[i], v) for i, v in columns]
         self.columns = (B.Variable * max(1, len(columns)))(*[
             variable(self.names[i], v) for i, v in columns])
@@ -167,13 +169,19 @@ class _Plan:
         times, out, asleep, pointers = self._buffers(start_time, stop_time, step)
         asleep.fill(np.inf)
         prog = B.Progress(progress)
-        spec = B.MeSpec(len(self.names), self.specs, self.n_couplings, self.couplings,
-                        len(self.column_names), self.columns, len(self.groups),
-                        self.group_array, len(times), pointers[0], pointers[1], stop_time,
-                        tolerance, METHODS[method], event_subsamples,
-                        step if self.capped else 0.0, prog.callback, None,
-                        self.rest_group, pointers[2], self.continuous, self.column_state,
-                        self.rows, JACOBIANS[jacobian])
+        spec = self.spec
+        if spec is None:  # what never changes between runs, once (a MeSpec costs ~3 us)
+            spec = self.spec = B.MeSpec(
+                len(self.names), self.specs, self.n_couplings, self.couplings,
+                len(self.column_names), self.columns, len(self.groups), self.group_array,
+                progress=prog.callback, rest_group=self.rest_group,
+                continuous=self.continuous, column_state=self.column_state,
+                row_coupling=self.rows)
+        spec.n_times, spec.times, spec.out, spec.asleep_since = (len(times), pointers[0],
+                                                                 pointers[1], pointers[2])
+        spec.stop_time, spec.tolerance, spec.method = stop_time, tolerance, METHODS[method]
+        spec.event_subsamples, spec.jacobian = event_subsamples, JACOBIANS[jacobian]
+        spec.max_step = step if self.capped else 0.0
         stats = B.Stats()
         lib.eng_strings_clear()  # String values of this run only (c/engine.h)
         started = wallclock.perf_counter()
@@ -196,7 +204,7 @@ class _Plan:
         n = stats.n_rows
         rows = out[:n].copy()  # the buffers serve the plan's next run
         table = {"time": times[:n].copy()}
-        for k, (column, (fmu, var)) in enumerate(zip(self.column_names, self.column_vars)):
+        for k, (column, (fmu, var)) in enumerate(zip(self.labels, self.column_vars)):
             table[column] = B.typed_column(lib, fmu, var, rows[:, k])
         by = stats.terminated_by
         settings = {
@@ -421,6 +429,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
         plan.members = members
         plan.layout = joined
         plan.capped = joined.indicators_follow_time
+        plan.labels = [ref for _, ref in columns]  # the members' names, not "assembly.<ref>"
         return plan
 
     key = ("monolithic", structure_key(assembly), None if record is None else tuple(record))
@@ -436,8 +445,7 @@ def simulate_monolithic(assembly: Assembly, stop_time: float, step: float,
                                            integrator(assembly, method), progress,
                                            event_subsamples, "monolithic", jacobian,
                                            start_time)
-    table = {("time" if k == "time" else k.removeprefix("assembly.")): v for k, v in table.items()}
-    tables = {member: Table.from_rows(["time"] + outputs, rows)
+    tables = {member: Table.from_array(["time"] + outputs, rows)
               for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)
               if len(rows)}
     settings["terminated"] = member_termination(settings["terminated"], plan.layout.terminate,
