@@ -9,6 +9,11 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "Damper": ".elements",
+    "ElastoGap": ".elements",
+    "Fixed": ".elements",
+    "Mass": ".masses",
+    "MassWithStopAndFriction": ".masses",
     "MassWithFriction": ".elements",
     "Spring": ".elements",
     "SpringDamper": ".elements",
