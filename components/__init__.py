@@ -30,7 +30,8 @@ _REGISTERED = (
     "AssumedModesBeam", "RigidBodyOnAxle", "InclinedCylinder", "HemisphericalShell",
     "RodOnRollers", "RollingCoin", "TorqueFreeBody", "NutationDamperBody", "WobblingDisk",
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
-    "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable")
+    "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
+    "Constant", "Step", "Ramp", "Sine")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 
