@@ -31,6 +31,7 @@ _REGISTERED = (
     "RodOnRollers", "RollingCoin", "TorqueFreeBody", "NutationDamperBody", "WobblingDisk",
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
+    "Constant", "Step", "Ramp", "Sine",
     "Fixed", "Mass", "Damper", "ElastoGap", "MassWithStopAndFriction")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
