@@ -32,7 +32,8 @@ _REGISTERED = (
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
     "Constant", "Step", "Ramp", "Sine",
-    "Fixed", "Mass", "Damper", "ElastoGap", "MassWithStopAndFriction")
+    "Fixed", "Mass", "Damper", "ElastoGap", "MassWithStopAndFriction",
+    "SupportFriction", "Brake")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

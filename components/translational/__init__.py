@@ -1,5 +1,5 @@
 """Translational elements (MSL ``Modelica.Mechanics.Translational.Components``): springs,
-dampers, masses with friction and the seed's spring-block.
+dampers, a gap, masses with friction, stops and brakes, and the seed's spring-block.
 
 Names are imported on first use (PEP 562), like the top-level ``components``.
 """
@@ -9,6 +9,8 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "Brake": ".brakes",
+    "SupportFriction": ".brakes",
     "Damper": ".elements",
     "ElastoGap": ".elements",
     "Fixed": ".elements",
