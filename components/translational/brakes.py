@@ -57,6 +57,10 @@ def interpolate(table, x):
     return value
 
 
+def values_shown(table) -> str:
+    return f"an array of shape {table.shape}" if table.size else "that"
+
+
 class _TableFriction(Component):
     """What SupportFriction and Brake share: the table, the mass, the mode machine."""
     table_name = ""
@@ -67,11 +71,14 @@ class _TableFriction(Component):
         table = values.pop(self.table_name, None)
         rows = values.pop("rows", None)
         if table is not None:
-            table = np.array(table, dtype=float)
+            try:
+                table = np.array(table, dtype=float)
+            except (TypeError, ValueError):
+                table = np.zeros((0, 0))  # not numbers: said below, with the shape wanted
             if table.ndim != 2 or table.shape[1] != 2 or not 1 <= len(table) <= MAX_ROWS:
                 raise ComponentError(f"{type(self).__name__} '{name or type(self).__name__}': "
                                      f"{self.table_name} must be 1 to {MAX_ROWS} "
-                                     f"rows [v, value], not an array of shape {table.shape}")
+                                     f"rows [v, value] of numbers, not {values_shown(table)}")
             rows = len(table) if rows is None else rows
         rows = self._rows_option().parse(1 if rows is None else rows)
         if rows is None:
