@@ -11,8 +11,10 @@ written from MSL's documented equations). Where MSL joins three flanges at one p
   grows like t/(2 m w)), one with a 10 N.s/m damper (it settles at F/(d w) = 1 mm).
 - ``translational_friction``: stop1, MassWithStopAndFriction (Stribeck friction)
   pushed by a 25 N sine at 0.25 Hz: stuck, breaks away at 1.001 (F_Coulomb +
-  F_Stribeck), slides, sticks again; stop2, thrown at -5 m/s against a spring, hits
-  its stop, bounces off it by the spring and comes to rest by friction.
+  F_Stribeck), slides, sticks again; the same with a SupportFriction whose table f_pos
+  samples that friction law at 50 speeds (MSL's GenerateStribeckFrictionTable); stop2,
+  thrown at -5 m/s against a spring, hits its stop, is pushed off it by the spring and
+  comes to rest by friction.
 - ``translational_brake``: a 1 kg mass at 1 m/s braked from t = 0.1 s by fn = 2 N with
   mu = 0.5: it stops at t = 1.1 s, 0.6 m on, and stays (the brake holds it), once with
   the brake grounded implicitly and once through a Fixed support.
@@ -27,7 +29,7 @@ import numpy as np
 
 from components.sources.force import Force
 from components.sources.signals import Sine, Step
-from components.translational.brakes import Brake
+from components.translational.brakes import Brake, SupportFriction
 from components.translational.elements import ElastoGap, Fixed, Spring, SpringDamper
 from components.translational.masses import PEAK, Mass, MassWithStopAndFriction
 
@@ -130,6 +132,16 @@ STOP2 = {"m": 1.0, "L": 1.0, "smax": 0.9, "smin": -0.9, "F_prop": 1.0, "F_Coulom
 SINE1 = {"amplitude": 25.0, "f": 0.25}
 SPRING2 = {"c": 500.0, "s_rel0": 1.0, "fixed": -1.75}
 STOP2_V0 = -5.0
+#: MSL's Examples.Utilities.GenerateStribeckFrictionTable(v_max = 12, nTable = 50)
+V_MAX, N_TABLE = 12.0, 50
+
+
+def stribeck_table() -> np.ndarray:
+    """stop1's sliding friction tabulated at N_TABLE speeds from 0 to V_MAX (MSL's table
+    for the SupportFriction beside it)."""
+    v = V_MAX * np.arange(N_TABLE) / (N_TABLE - 1)
+    f = ref.stribeck(STOP1["F_prop"], STOP1["F_Coulomb"], STOP1["F_Stribeck"], STOP1["fexp"])
+    return np.column_stack([v, [f(x) for x in v]])
 
 
 def _friction() -> Assembly:
@@ -139,6 +151,13 @@ def _friction() -> Assembly:
     asm.add("stop1", MassWithStopAndFriction(**STOP1, s=0.0, v=0.0))
     asm.connect("sineForce.y", "force.f")
     asm.connect("force.flange", "stop1.flange_a")
+    # MSL's Mass + SupportFriction(f_pos = the table): one element here (see Brake); an
+    # input takes one source, so the same sine comes from a second block
+    asm.add("sineForce2", Sine(**SINE1))
+    asm.add("force2", Force())
+    asm.add("supportFriction", SupportFriction(m=STOP1["m"], f_pos=stribeck_table()))
+    asm.connect("sineForce2.y", "force2.f")
+    asm.connect("force2.flange", "supportFriction.flange_a")
     asm.add("fixed2", Fixed(s0=SPRING2["fixed"]))
     asm.add("spring", Spring(c=SPRING2["c"], s_rel0=SPRING2["s_rel0"]))
     asm.add("stop2", MassWithStopAndFriction(**STOP2, s=0.0, v=STOP2_V0))
@@ -155,22 +174,28 @@ def _body(p: dict, force) -> ref.StickSlipBody:
                              low=p["smin"] + p["L"] / 2, high=p["smax"] - p["L"] / 2)
 
 
-def friction_references(stop_time: float) -> tuple[ref.Trajectory, ref.Trajectory]:
-    """The event-driven solutions for stop1 and stop2 of MSL's Friction example."""
+def friction_references(stop_time: float) -> tuple[ref.Trajectory, ...]:
+    """The event-driven solutions for stop1, stop2 and the SupportFriction's mass of MSL's
+    Friction example."""
     w = 2 * math.pi * SINE1["f"]
     stop1 = _body(STOP1, lambda t, s, v: SINE1["amplitude"] * math.sin(w * t))
     # the spring from fixed2 to stop2.flange_a = s - L/2, unstretched at s_rel0
     anchor = SPRING2["fixed"] + SPRING2["s_rel0"] + STOP2["L"] / 2
     stop2 = _body(STOP2, lambda t, s, v: -SPRING2["c"] * (s - anchor))
+    table = stribeck_table()
+    # SupportFriction: peak 1 (MSL's default) on the table, interpolated linearly
+    support = ref.StickSlipBody(m=STOP1["m"], force=stop1.force, f0_max=float(table[0, 1]),
+                                kinetic=lambda u: float(np.interp(u, table[:, 0], table[:, 1])))
     return (ref.stick_slip(stop1, 0.0, 0.0, stop_time),
-            ref.stick_slip(stop2, 0.0, STOP2_V0, stop_time))
+            ref.stick_slip(stop2, 0.0, STOP2_V0, stop_time),
+            ref.stick_slip(support, 0.0, 0.0, stop_time))
 
 
 def _friction_figures(result: Result, asm: Assembly) -> list[Figure]:
-    r1, r2 = friction_references(float(result["time"][-1]))
+    r1, r2, r3 = friction_references(float(result["time"][-1]))
     acc = solver_accuracy(result, 1.0)
     figures = []
-    for name, traj in (("stop1", r1), ("stop2", r2)):
+    for name, traj in (("stop1", r1), ("stop2", r2), ("supportFriction", r3)):
         ours = _events(result, name)
         for k, (t_ref, q_ref, _, _) in enumerate(traj.events[:6]):
             # the k-th mode change of the reference against ours into the same mode

@@ -44,11 +44,12 @@ def test_every_figure_passes_in_every_mode(name, mode, request):
 
 
 def test_friction_follows_the_reference_through_every_event():
-    """Every mode change of stop1 and stop2 in the event-driven reference happens in the
-    run at the same time and into the same mode (the figures check the first six)."""
+    """Every mode change of stop1, stop2 and the SupportFriction's mass in the event-driven
+    reference happens in the run at the same time and into the same mode (the figures
+    check the first six)."""
     r = run("translational_friction", "monolithic").result
-    r1, r2 = friction_references(5.0)
-    for name, traj in (("stop1", r1), ("stop2", r2)):
+    r1, r2, r3 = friction_references(5.0)
+    for name, traj in (("stop1", r1), ("stop2", r2), ("supportFriction", r3)):
         ev = r.events[name]
         ours = [(t, q) for t, q in zip(ev["time"], ev[f"{name}.mode"])]
         theirs = [(t, q) for t, q, _, _ in traj.events]
