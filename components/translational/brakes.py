@@ -19,6 +19,7 @@ from ..friction import coulomb_modes
 from ..interfaces import (FIXED, FORCE_IN, MOTION_IN, SIGNAL_IN, TRANSLATIONAL, ComponentError,
                           Constraint, Mode, Option, Parameter, Port, Profile, State, signal)
 from ..lazy import lazy
+from .elements import on_support
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 np = lazy("numpy")
@@ -57,8 +58,14 @@ def interpolate(table, x):
     return value
 
 
-def values_shown(table) -> str:
+def _shown(table) -> str:
     return f"an array of shape {table.shape}" if table.size else "that"
+
+
+def _rows(table: str) -> Option:
+    return Option("rows", 1, range(1, MAX_ROWS + 1),
+                  f"rows of the table {table}: row k is {table}[k,1] the speed, {table}[k,2] "
+                  "the value (default speeds 0, 1, 2, ... m/s)")
 
 
 class _TableFriction(Component):
@@ -78,7 +85,7 @@ class _TableFriction(Component):
             if table.ndim != 2 or table.shape[1] != 2 or not 1 <= len(table) <= MAX_ROWS:
                 raise ComponentError(f"{type(self).__name__} '{name or type(self).__name__}': "
                                      f"{self.table_name} must be 1 to {MAX_ROWS} "
-                                     f"rows [v, value] of numbers, not {values_shown(table)}")
+                                     f"rows [v, value] of numbers, not {_shown(table)}")
             rows = len(table) if rows is None else rows
         rows = self._rows_option().parse(1 if rows is None else rows)
         if rows is None:
@@ -95,9 +102,8 @@ class _TableFriction(Component):
             values.update({f"{self.table_name}[{k},{j}]": x for j, x in enumerate(row, 1)})
         super().__init__(name, profile, rows=rows, **values)
 
-    @classmethod
-    def _rows_option(cls):
-        return Option("rows", 1, range(1, MAX_ROWS + 1), f"rows of the table {cls.table_name}")
+    def _rows_option(self):
+        return next(o for o in self.options if o.name == "rows")
 
     @property
     def constraints(self):
@@ -117,21 +123,12 @@ class _TableFriction(Component):
 
     def friction_equations(self, e, kinetic, static_limit):
         """The mass on its support, its friction from `kinetic(|v|)` and `static_limit`."""
-        p, x, v, a = e.p, e.x.s, e.x.v, e.der.v
-        fa, fb, support = e.port("flange_a"), e.port("flange_b"), e.port("support")
-        friction = e.unknown("friction")  # on the mass
-        e.residual(e.der.s - v)
-        e.residual(p.m * (support.a + a) - fa.f - fb.f - friction)
-        for flange in (fa, fb):
-            e.residual(flange.s - (support.s + x))
-            e.residual(flange.v - (support.v + v))
-            e.residual(flange.a - (support.a + a))
-        e.residual(support.f - friction)
-        coulomb_modes(e, speed="v", acceleration=a, friction=friction,
-                      applied=fa.f + fb.f - p.m * support.a, static_limit=static_limit,
-                      kinetic_limit=kinetic(ca.fabs(v)))
-        e.output("s_abs", support.s + x, "m", "absolute position of the mass")
-        e.output("a", a, "m/s2", "acceleration of the mass relative to the support")
+        v, support = e.x.v, e.port("support")
+        friction, applied = on_support(e, e.p.m, "s")
+        coulomb_modes(e, speed="v", acceleration=e.der.v, friction=friction, applied=applied,
+                      static_limit=static_limit, kinetic_limit=kinetic(ca.fabs(v)))
+        e.output("s_abs", support.s + e.x.s, "m", "absolute position of the mass")
+        e.output("a", e.der.v, "m/s2", "acceleration of the mass relative to the support")
         e.output("f", -friction, "N", "friction force, positive when it opposes +v")
         e.output("lossPower", -friction * v, "W", "power dissipated by friction")
 
@@ -154,7 +151,8 @@ class SupportFriction(_TableFriction):
     """
     table_name, table_default, table_unit = "f_pos", ((0.0, 1.0),), "N"
     own_parameters = (_MASS, _PEAK)
-    options = (_TableFriction._rows_option(),)
+    parameters = own_parameters  # what `mechfmu show` lists; an instance adds its table's
+    options = (_rows("f_pos"),)
     states, modes, ports, profiles = _STATES, _MODES, _PORTS, _profiles({})
 
     def equations(self, e):
@@ -180,7 +178,8 @@ class Brake(_TableFriction):
                       Parameter("cgeo", 1.0, "1", "geometry constant of the friction "
                                 "distribution", min=0.0),
                       Parameter("fn_max", 1.0, "N", "maximum normal force", min=0.0))
-    options = (_TableFriction._rows_option(),)
+    parameters = own_parameters  # what `mechfmu show` lists; an instance adds its table's
+    options = (_rows("mu_pos"),)
     states, modes = _STATES, _MODES
     ports = (*_PORTS, Port("f_normalized", signal("1"), "normalised normal force (fn = "
                            "fn_max f_normalized; the brake acts while > 0)"))

@@ -154,6 +154,24 @@ class ElastoGap(Component):
         e.output("lossPower", f_d * (b.v - a.v), "W", "power dissipated by the damper")
 
 
+def on_support(e, m, position: str):
+    """A rigid mass `m` whose flanges ride on its ``support``, at the state `position`
+    and the speed ``v`` relative to it: the residuals, and (friction from the support,
+    an unknown; every other force on the mass in the support's frame) for the friction
+    law to close."""
+    x, v, a = getattr(e.x, position), e.x.v, e.der.v
+    fa, fb, support = e.port("flange_a"), e.port("flange_b"), e.port("support")
+    friction = e.unknown("f")
+    e.residual(getattr(e.der, position) - v)
+    e.residual(m * (support.a + a) - fa.f - fb.f - friction)
+    for flange in (fa, fb):
+        e.residual(flange.s - (support.s + x))
+        e.residual(flange.v - (support.v + v))
+        e.residual(flange.a - (support.a + a))
+    e.residual(support.f - friction)
+    return friction, fa.f + fb.f - m * support.a
+
+
 class MassWithFriction(Component):
     """Sliding mass with exact Coulomb friction against a support (cf. MSL MassWithStopAndFriction).
 
@@ -193,19 +211,11 @@ class MassWithFriction(Component):
     )
 
     def equations(self, e):
-        p, x, v, a = e.p, e.x.x, e.x.v, e.der.v
-        fa, fb, support = e.port("flange_a"), e.port("flange_b"), e.port("support")
-        f = e.unknown("f")
+        p, x, v = e.p, e.x.x, e.x.v
+        support = e.port("support")
+        f, f_applied = on_support(e, p.m, "x")
         normal = p.m * p.g
-        f_applied = fa.f + fb.f - p.m * support.a  # all but friction, in the support's frame
-        e.residual(e.der.x - v)
-        e.residual(p.m * (support.a + a) - fa.f - fb.f - f)
-        for flange in (fa, fb):
-            e.residual(flange.s - (support.s + x))
-            e.residual(flange.v - (support.v + v))
-            e.residual(flange.a - (support.a + a))
-        e.residual(support.f - f)
-        coulomb_modes(e, speed="v", acceleration=a, friction=f, applied=f_applied,
+        coulomb_modes(e, speed="v", acceleration=e.der.v, friction=f, applied=f_applied,
                       static_limit=p.mu_s * normal, kinetic_limit=p.mu_k * normal)
         e.output("s", support.s + x, "m", "absolute position of the block")
         e.output("v_abs", support.v + v, "m/s", "absolute velocity of the block")
