@@ -33,7 +33,7 @@ _REGISTERED = (
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
     "Constant", "Step", "Ramp", "Sine",
     "Fixed", "Mass", "Damper", "ElastoGap", "MassWithStopAndFriction",
-    "SupportFriction", "Brake")
+    "SupportFriction", "Brake", "Rod", "Junction")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

@@ -14,6 +14,8 @@ WHERE = {
     "Damper": ".elements",
     "ElastoGap": ".elements",
     "Fixed": ".elements",
+    "Junction": ".rigid",
+    "Rod": ".rigid",
     "Mass": ".masses",
     "MassWithStopAndFriction": ".masses",
     "MassWithFriction": ".elements",

@@ -139,3 +139,25 @@ def test_bad_values_are_refused_in_one_line(make, words):
         make()
     message = str(err.value)
     assert "\n" not in message and all(w in message for w in words), message
+
+
+def test_rod_and_junction_join_a_mass_to_two_springs():
+    """A mass whose flange_b carries, through a Junction, two springs to walls, one of
+    them through a rod: they act in parallel, so it oscillates about their common rest
+    point at sqrt(2 c / m)."""
+    from components import Junction, Rod, Spring
+    m, c, L = 2.0, 50.0, 0.3
+    asm = _chain("joint", ("mass.flange_b", "joint.flange_a"),
+                 ("joint.flange_b", "left.flange_a"), ("left.flange_b", "wallL.flange"),
+                 ("joint.flange_c", "rod.flange_a"), ("rod.flange_b", "right.flange_a"),
+                 ("right.flange_b", "wallR.flange"),
+                 mass=Mass(m=m, s=0.1), joint=Junction(), rod=Rod(L=L),
+                 left=Spring(c=c, s_rel0=1.0), right=Spring(c=c, s_rel0=1.0),
+                 wallL=Fixed(s0=1.0), wallR=Fixed(s0=1.0 + L))
+    r = _run(asm, 2.0, 0.01)
+    w = math.sqrt(2 * c / m)
+    np.testing.assert_allclose(r["mass.s"], 0.1 * np.cos(w * r["time"]), atol=1e-8)
+    np.testing.assert_allclose(r["rod.flange_b.s"] - r["mass.s"], L, atol=1e-12)
+    # flows sum to zero at the joint: the cut force at flange_a is minus the springs'
+    # tensions (each pulls the joint towards its wall: +f at flange_a of a spring)
+    np.testing.assert_allclose(r["joint.flange_a.f"], -(r["left.f"] + r["right.f"]), atol=1e-9)
