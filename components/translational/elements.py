@@ -85,8 +85,9 @@ class Fixed(Component):
     """Flange fixed in the housing at a given position (MSL Translational.Components.Fixed).
 
     Parameter: ``s0`` [m] position of the flange. Connector: ``flange`` — outputs
-    s = s0, v = 0, a = 0 and takes the force on it in (reported as ``f``, positive
-    along +s: what the housing must hold).
+    s = s0, v = 0, a = 0 and takes in the force the housing holds (``flange.f``).
+    Where MSL connects one Fixed to several flanges, use one Fixed per flange (a
+    connection joins two ports): they are the same housing.
     """
 
     parameters = (Parameter("s0", 0.0, "m", "fixed offset position of the housing"),)
