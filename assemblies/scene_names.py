@@ -99,5 +99,17 @@ SCENE_INDEX = {
     'burridge_knopoff': ('burridge_knopoff',
         'issue 30: Burridge-Knopoff chain, C&L velocity-weakening friction, exact stick-'
         'slip'),
+    'translational_oscillator': ('msl_translational',
+        'MSL Translational.Examples.Oscillator: masses on springs driven at resonance, '
+        'undamped and damped'),
+    'translational_friction': ('msl_translational',
+        'MSL Translational.Examples.Friction: Stribeck friction with stick/slip under a '
+        'sine force, and a mass thrown against its hard stop'),
+    'translational_brake': ('msl_translational',
+        'MSL Translational.Examples.Brake: a sliding mass braked to rest by a normal '
+        'force stepped on at 0.1 s'),
+    'translational_elastogap': ('msl_translational',
+        'MSL Translational.Examples.ElastoGap: a mass on spring-dampers beside one '
+        'between ElastoGaps that lift off'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

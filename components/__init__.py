@@ -32,7 +32,9 @@ _REGISTERED = (
     "WobblingDisk", "RigidBodyOnString",
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
-    "FaultBlock")
+    "FaultBlock", "Constant", "Step", "Ramp", "Sine",
+    "Fixed", "Mass", "Damper", "ElastoGap", "MassWithStopAndFriction",
+    "SupportFriction", "Brake", "Rod", "Junction")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

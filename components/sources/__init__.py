@@ -1,4 +1,4 @@
-"""Sources (MSL ``Sources``): prescribed motion, force and time tables.
+"""Sources (MSL ``Sources``): prescribed motion, force, time tables and signals.
 
 Names are imported on first use (PEP 562), like the top-level ``components``.
 """
@@ -8,10 +8,14 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "Constant": ".signals",
     "ConstantForce": ".force",
     "Force": ".force",
     "HarmonicMotion": ".motion",
     "SineMotion": ".motion",
+    "Ramp": ".signals",
+    "Sine": ".signals",
+    "Step": ".signals",
     "TimeTable": ".table",
     "ConstantSpeed": ".translational",
     "Position": ".translational",
