@@ -30,6 +30,9 @@ SCENE_INDEX = {
         'seed 7.5: damped cantilever settling under a constant tip force'),
     'moving_table': ('table',
         'seed 9.6 ex. 1: block sliding on a table shaken as U sin(wt)'),
+    'still_table': ('table',
+        'seed 9.6 ex. 1 without the shaking: the same block on a still table slows '
+        'linearly and stops (the reference case moving_table is measured against)'),
     'conveyor': ('table',
         'seed 9.6 ex. 2: asymmetric shaking conveys the block at a steady speed'),
     'two_block_belt': ('joined',
@@ -53,6 +56,10 @@ SCENE_INDEX = {
     'stick_slip_smooth': ('friction_seed',
         'seed 9.2, Fig. 9.4: the smooth friction law Eq. 9.5 (eps = 1e-3, and 1e-4) '
         "against the exact stick-slip's t1 and t2"),
+    'resonance_eq_9_10': ('friction_seed',
+        'seed 9.5, Figs. 9.6 and 9.7 as the seed computes them: Eq. 9.10, mu '
+        "tanh(x'/0.001) (SpringBlock's tanh law with eps = 0.003), U = 0.4 and U = 1 from"
+        ' x(0) = 10'),
     'distinguished_limit': ('friction_seed',
         'seed 9.3: the block as two halves m/2 joined by a stiff spring K = 1e2, 1e3, 1e4'
         ' N/m, pulled as in 9.2 (exact Coulomb friction): the front half slips at t1/2 = '
@@ -84,5 +91,16 @@ SCENE_INDEX = {
     'nutation_damper': ('bodies_seed',
         'seed 8.3.1: spun about its minor axis, a body with a viscous damper inside ends '
         'spinning about its major axis'),
+    'sliding_rod': ('sliding',
+        'seed 9.8: a rod sliding and spinning on a table (Eqs. 9.14-9.16, uniform '
+        'reaction) stops translating and rotating at the same instant'),
+    'sliding_disk': ('sliding',
+        'seed 9.8: a disk sliding and spinning on a table under a uniform pressure, its '
+        'friction integrals by quadrature in the model, stops translating and rotating at'
+        ' the same instant'),
+    'sliding_disk_parabolic': ('sliding',
+        'seed 9.8: the disk of sliding_disk under a parabolic pressure p ~ 1 - r^2/R^2: '
+        'it too stops translating and rotating at once, its speed vanishing faster (the '
+        'ratio tends to 0)'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

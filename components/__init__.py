@@ -29,7 +29,7 @@ _REGISTERED = (
     "SpringBlock", "ConstantSpeed", "SineMotion", "HarmonicMotion", "ConstantForce",
     "AssumedModesBeam", "RigidBodyOnAxle", "InclinedCylinder", "HemisphericalShell",
     "RodOnRollers", "RollingCoin", "TorqueFreeBody", "NutationDamperBody", "WobblingDisk",
-    "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
+    "Skate", "SlidingRod", "SlidingDisk", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])

@@ -370,6 +370,25 @@ def half_period_turning_points(m, k, g, mu, U, x0, t_end):
         points.append((t, (-1) ** j * sign * a))
 
 
+def eq_9_10(U: float, x0: float, v0: float, t, mu: float = 0.6, scale: float = 1e-3):
+    """(x, x') at the times t of seed Eq. 9.10 as printed,
+    x'' = -x + U sin t - mu tanh(x' / 0.001), by scipy's Radau (exact Jacobian, rtol
+    1e-12): an independent integration of the seed's equation, for the scenes that run
+    it through SpringBlock's tanh law."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(tt, y):
+        return [y[1], -y[0] + U * math.sin(tt) - mu * math.tanh(y[1] / scale)]
+
+    def jac(tt, y):
+        # sech^2 as 1 - tanh^2: cosh overflows beyond |x'| ~ 0.7
+        return [[0.0, 1.0], [-1.0, -mu / scale * (1 - math.tanh(y[1] / scale) ** 2)]]
+    t = np.asarray(t, dtype=float)
+    sol = solve_ivp(rhs, (0.0, float(t[-1])), [x0, v0], method="Radau", jac=jac, t_eval=t,
+                    rtol=1e-12, atol=1e-14)
+    return sol.y[0], sol.y[1]
+
+
 @dataclass
 class Phase:
     """One phase of the driven block: from time t on, in friction mode (-1 sliding
@@ -501,7 +520,7 @@ def slide_ends(phases: list[Phase]) -> list[Phase]:
 
 
 __all__ = ["LAW_BAND", "DrivenCoulombBlock", "Phase", "StickSlipCycle", "chain_first_slip",
-           "creep_speed", "damped_first_slip", "damped_stick_slip", "half_period_turning_points",
+           "creep_speed", "damped_first_slip", "damped_stick_slip", "eq_9_10", "half_period_turning_points",
            "perturbation_decay_rate", "resonance_growth_rate", "resonance_threshold",
            "richardson_bound", "sliding_perturbation", "slide_ends",
            "smooth_friction_coefficient", "smooth_law_peak", "smooth_slip_bracket",

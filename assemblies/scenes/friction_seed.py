@@ -14,6 +14,7 @@ fail under it.
 """
 from __future__ import annotations
 
+import functools
 import math
 from types import SimpleNamespace
 
@@ -27,8 +28,8 @@ from components.translational.elements import MassWithFriction, Spring
 
 from ..assembly import Assembly
 from ..result import Result
-from .friction_references import (DrivenCoulombBlock, chain_first_slip, damped_first_slip,
-                                  damped_stick_slip,
+from .friction_references import (LAW_BAND, DrivenCoulombBlock, chain_first_slip,
+                                  damped_first_slip, damped_stick_slip, eq_9_10,
                                   half_period_turning_points, perturbation_decay_rate,
                                   resonance_growth_rate, richardson_bound, slide_ends,
                                   sliding_perturbation, smooth_law_peak, smooth_slip_bracket,
@@ -40,6 +41,8 @@ from .references import stick_slip_first_cycle
 from .scene import Figure, Scene
 
 SEED = dict(m=1.0, k=1.0, g=1.0)          # chapter 9's units
+DRIFT_910 = 1e4  # a smooth motion's error over ~1e5 steps, as scene.DRIFT
+RATE_910_FROM = 40.0  # [s] the growth's fit starts once the motion is near its lock
 DRAG = dict(mu_k=0.3, mu_s=0.4)           # Eq. 9.4
 SPEED = 0.05                              # Eq. 9.4's driven end [m/s]
 
@@ -297,6 +300,87 @@ def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
                source=HALF_PERIOD_LAW),
         Figure("locked_t_end", "locked: its time [s]", t_run, t_end, q["acc"](t_end),
                source=HALF_PERIOD_LAW)]
+
+
+# --- 9.5 Eq. 9.10 as the seed runs it ---------------------------------------------------
+EQ_9_10_EPS = 3e-3  # SpringBlock's tanh law is mu tanh(3 v / eps): Eq. 9.10's tanh(v / 0.001)
+EQ_9_10 = ("independent integration of seed Eq. 9.10 as printed (scipy Radau, rtol 1e-12, "
+           "written from the equation)")
+
+
+def _resonance_eq_9_10() -> Assembly:
+    asm = Assembly("resonance_eq_9_10")
+    for name, U in (("below", 0.4), ("growth", 1.0)):
+        asm.add(f"{name}_drive", SineMotion(U=U, omega=1.0))
+        asm.add(name, SpringBlock(**SEED, **{**RESONANCE, "x": 10.0}, friction="tanh",
+                                  eps=EQ_9_10_EPS))
+        asm.connect(f"{name}_drive.flange", f"{name}.flange_a")
+    return asm
+
+
+@functools.lru_cache(maxsize=8)
+def _eq_9_10(U, x0, mu, scale, t):
+    """The reference, once per drive, start, law and output grid (scipy takes seconds)."""
+    return eq_9_10(U, x0, 0.0, np.array(t), mu=mu, scale=scale)
+
+
+def _turns_of(t, x, v, a):
+    """(t, x) at each zero of x' on the cubic Hermite interpolant of (v, a)."""
+    spline = CubicHermiteSpline(t, v, a)
+    roots = spline.roots(extrapolate=False)
+    roots = roots[(roots > t[0]) & (roots < t[-1])]
+    return roots, CubicHermiteSpline(t, x, v)(roots)
+
+
+def _resonance_eq_9_10_figures(result: Result, asm: Assembly) -> list[Figure]:
+    t = result["time"]
+    figures, refs = [], {}
+    for name in ("below", "growth"):
+        b, U = asm.component(name).values, asm.component(f"{name}_drive").values["U"]
+        x0 = asm.component(name).starts["x"]
+        refs[name] = x_ref, _ = _eq_9_10(U, x0, b["mu_k"], b["eps"] / 3, tuple(t))
+        # a smooth law's motion is continuous in its start and the solver keeps its
+        # local error at tol: accumulated over the run like a conservation figure's
+        figures.append(Figure(f"{name}_x", f"U = {U:g}: largest |x - x_Eq.9.10| over the run "
+                              "[m]", float(np.abs(result[f"{name}.x"] - x_ref).max()), 0.0,
+                              _accuracy(result, x0, DRIFT_910, drive_omega=1.0),
+                              source=EQ_9_10))
+    # Fig. 9.6's claim: no resonant growth at U = 0.4, |x| over the last forcing period
+    # far below its start (the reference's, at the same output times)
+    last = t >= t[-1] - 2 * math.pi
+    x0 = asm.component("below").starts["x"]
+    figures.append(Figure("below_amp", "U = 0.4: largest |x| over the last forcing period "
+                          "[m] (no growth: far below x(0) = 10)",
+                          float(np.abs(result["below.x"][last]).max()),
+                          float(np.abs(refs["below"][0][last]).max()),
+                          _accuracy(result, x0, DRIFT_910, drive_omega=1.0), source=EQ_9_10))
+    # growth: the seed's resonant rate from the run's turning points once locked, as in
+    # resonance_growth; the tanh law departs from Coulomb's only while |x'| < 20 x 0.001
+    # (beyond, |tanh - sign| < 1e-17), which each reversal crosses in at most
+    # 2 V / a_min, a_min = min |x| - U - mu: the friction impulse, and with it the
+    # amplitude, is off by at most 2 mu g that / w0 a half period, the slope by w0 / pi
+    # times that; the lock's truncation (its phase read off the reference) adds the rest
+    b, U = asm.component("growth").values, asm.component("growth_drive").values["U"]
+    late = t >= RATE_910_FROM
+    turn_t, turn_x = _turns_of(t[late], result["growth.x"][late], result["growth.v"][late],
+                               result["growth.a"][late])
+    j = np.round(turn_t / math.pi)
+    slope, spread = _fit_slope(j * math.pi, np.abs(turn_x)) if len(j) else (math.nan, math.nan)
+    x_ref, v_ref = refs["growth"]
+    a_ref = -x_ref + U * np.sin(t) - b["mu_k"] * np.tanh(3 * v_ref / b["eps"])
+    ref_t, ref_x = _turns_of(t[late], x_ref[late], v_ref[late], a_ref[late])
+    phi = float(np.abs(ref_t - math.pi * np.round(ref_t / math.pi)).max()) if len(ref_t) else math.nan
+    a_min = float(np.abs(ref_x).min()) - U - b["mu_k"] if len(ref_x) else math.nan
+    band = 2 * b["mu_k"] * b["g"] * 2 * (LAW_BAND * b["eps"] / 3) / a_min
+    lock = 2 * (float(np.abs(ref_x).max()) + b["mu_k"]) * (1 / math.cos(phi) - 1) \
+        + len(ref_t) * U * (phi - math.sin(phi))
+    figures.append(Figure("rate", f"U = {U:g}: growth of |x| at its turning points after "
+                          f"t = {RATE_910_FROM:g} s [m/s] vs (U pi - 4 mu) / (2 pi)", slope,
+                          resonance_growth_rate(b["m"], b["k"], b["g"], b["mu_k"], U),
+                          band / math.pi + spread * lock + spread * _accuracy(result, 10.0),
+                          source="seed 9.5 (the rate is Coulomb's; Eq. 9.10 smooths it within "
+                          "the band bound)"))
+    return figures
 
 
 # --- 9.3 the distinguished limit -------------------------------------------------------
@@ -636,6 +720,16 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         figures=_stick_slip_smooth_figures, picture=plot_smooth, seed="9.2, Fig. 9.4",
         reference="exact t1 = 8, t2 = 12.0689, within Eq. 9.5's peak deficit (μmax = 0.39868) "
                   "and an ε → ε/10 convergence bound; rigorous bounds on the slip onset"),
+    "resonance_eq_9_10": Scene(
+        "resonance_eq_9_10", "seed 9.5, Figs. 9.6 and 9.7 as the seed computes them: Eq. 9.10, "
+        "mu tanh(x'/0.001) (SpringBlock's tanh law with eps = 0.003), U = 0.4 and U = 1 from "
+        "x(0) = 10",
+        _resonance_eq_9_10, stop_time=80.0, step=0.05, tolerance=1e-10,
+        record=_blocks_record(("below", "growth"), ("x", "v", "a")),
+        figures=_resonance_eq_9_10_figures, plot=["below.x", "growth.x"], mode="me",
+        seed="9.5, Eq. 9.10, Figs. 9.6–9.7",
+        reference="x(t) of Eq. 9.10 integrated independently (scipy Radau); U = 1 grows at "
+                  "(Uπ − 4μ)/(2π) = 0.118 within the tanh band's bound"),
     "distinguished_limit": Scene(
         "distinguished_limit", "seed 9.3: the block as two halves m/2 joined by a stiff "
         "spring K = 1e2, 1e3, 1e4 N/m, pulled as in 9.2 (exact Coulomb friction): the front "

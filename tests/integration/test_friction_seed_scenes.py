@@ -31,13 +31,14 @@ def run(name, mode=None, **kw):
 def test_registered_with_seed_sections_and_references():
     assert set(NAMES) == {"steady_sliding", "stick_slip_damped", "stick_slip_smooth",
                           "distinguished_limit", "distinguished_limit_n4", "resonance_growth",
-                          "resonance_below"}
+                          "resonance_below", "resonance_eq_9_10"}
     for name in NAMES:
         sc = SCENES[name]
         assert sc.seed.startswith("9.") and sc.reference, name
         assert sc.mode in MODES
     # the seed's resonance figures use Eq. 9.10 (tanh without Eq. 9.7's 3); the scenes say
     # which law they run
+    assert "Eq. 9.10" in SCENES["resonance_eq_9_10"].description
     for name in ("resonance_growth", "resonance_below"):
         assert "exact Coulomb" in SCENES[name].description
         assert "Eq. 9.10" in SCENES[name].description
@@ -245,3 +246,14 @@ def test_smooth_gross_slip_is_located_whatever_the_output_step(mode, step):
     tolerance = SCENES["stick_slip_smooth"].tolerance
     assert abs(figures["t1"].measured - t1) < 100 * tolerance * t1
     assert abs(figures["t2"].measured - t2) < 100 * tolerance * t2
+
+
+def test_eq_9_10_as_printed_shows_the_seeds_two_figures():
+    """Fig. 9.6: with U = 0.4 "no resonant growth" (|x| ends far below its start of 10);
+    Fig. 9.7: with U = 1 "resonant growth" (|x| ends above 8.7, the exact Coulomb
+    motion's last turning point being 8.79)."""
+    res = run("resonance_eq_9_10", "me").result
+    t = res["time"]
+    last = t > t[-1] - 2 * math.pi
+    assert np.abs(res["below.x"][last]).max() < 2.0
+    assert np.abs(res["growth.x"][last]).max() > 8.7
