@@ -30,6 +30,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .friction_references import (LAW_BAND, DrivenCoulombBlock, chain_first_slip,
                                   damped_first_slip, damped_stick_slip, eq_9_10,
+                                  eq_9_5_gross_slip,
                                   half_period_turning_points, perturbation_decay_rate,
                                   resonance_growth_rate, richardson_bound, slide_ends,
                                   sliding_perturbation, smooth_law_peak, smooth_slip_bracket,
@@ -316,6 +317,12 @@ def _resonance_eq_9_10() -> Assembly:
                                   eps=EQ_9_10_EPS))
         asm.connect(f"{name}_drive.flange", f"{name}.flange_a")
     return asm
+
+
+@functools.lru_cache(maxsize=8)
+def _eq_9_5(m, k, g, mu_k, mu_s, v, eps, t_end):
+    """Eq. 9.5's gross-slip instants, once per block and run length (scipy: ~1 s)."""
+    return eq_9_5_gross_slip(m, k, g, mu_k, mu_s, v, eps, t_end)
 
 
 @functools.lru_cache(maxsize=8)
@@ -680,6 +687,16 @@ def _stick_slip_smooth_figures(result: Result, asm: Assembly) -> list[Figure]:
         figures.append(Figure(name, f"eps = {eps:g}: {what} [s] vs the exact Coulomb time",
                               coarse[i], exact[i], accuracy,
                               source="seed Eq. 9.4 exact Coulomb times (closed form), with Eq. 9.5's peak deficit and an eps -> eps/10 study"))
+    # the same instants against Eq. 9.5 itself, integrated independently: what the ten
+    # printed digits of t1 and t2 are good for (the solver's accuracy at located events)
+    law = _eq_9_5(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, eps,
+                  float(result["time"][-1]))
+    for i, name in ((0, "t1_law"), (1, "t2_law")):
+        figures.append(Figure(name, f"eps = {eps:g}: the same instant [s] vs Eq. 9.5 "
+                              "integrated independently", coarse[i], law[i],
+                              _accuracy(result, law[i]),
+                              source="independent integration of seed Eq. 9.5 (scipy Radau, "
+                              "rtol 1e-12, written from the equation)"))
     for name, start, e in (("smooth", coarse[0], eps), ("finer", fine[0], eps_fine)):
         lo, hi = smooth_slip_bracket(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, e)
         figures.append(Figure(f"t1_bounds_{name}", f"eps = {e:g}: first slip [s] within "
