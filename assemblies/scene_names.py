@@ -64,6 +64,10 @@ SCENE_INDEX = {
         'seed 9.3: the block as two halves m/2 joined by a stiff spring K = 1e2, 1e3, 1e4'
         ' N/m, pulled as in 9.2 (exact Coulomb friction): the front half slips at t1/2 = '
         "4 s, before the rigid block's 8 s, whatever K"),
+    'limits_order': ('friction_seed',
+        'seed 9.3, the other order of the limits: K -> oo first (the rigid block under '
+        'Eq. 9.5, eps = 1e-3 and 1e-4) slips at ~8 s, eps -> 0 first (two halves, exact '
+        'Coulomb, K = 1e4 N/m) at 4 s'),
     'distinguished_limit_n4': ('friction_seed',
         'seed 9.3: the block as n = 4 masses m/4 joined by stiff springs K = 1e2, 1e3, '
         '1e4 N/m (exact Coulomb friction): the front mass slips earlier still, at t1/4 = '

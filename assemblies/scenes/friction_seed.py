@@ -30,7 +30,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .friction_references import (LAW_BAND, DrivenCoulombBlock, chain_first_slip,
                                   damped_first_slip, damped_stick_slip, eq_9_10,
-                                  eq_9_5_gross_slip,
+                                  eq_9_5_gross_slip, smooth_mode_slip_bracket,
                                   half_period_turning_points, perturbation_decay_rate,
                                   resonance_growth_rate, richardson_bound, slide_ends,
                                   sliding_perturbation, smooth_law_peak, smooth_slip_bracket,
@@ -626,6 +626,56 @@ def _stick_slip_damped_figures(result: Result, asm: Assembly) -> list[Figure]:
     return figures
 
 
+# --- 9.3 the two orders of the limits ---------------------------------------------------
+ORDER_K = 1e4  # [N/m] the stiffest chain of distinguished_limit
+
+
+def _limits_order() -> Assembly:
+    """K -> oo first: the rigid block (a chain with K = oo is one mass) under Eq. 9.5 at
+    eps = 1e-3 and 1e-4, eps -> 0 after; eps -> 0 first: the two halves with exact
+    Coulomb friction, K = 1e4 N/m."""
+    asm = Assembly("limits_order")
+    for name, eps in (("rigid3", SMOOTH_EPS), ("rigid4", FINER_EPS)):
+        asm.add(f"{name}_end", ConstantSpeed(v=SPEED))
+        asm.add(name, SpringBlock(**SEED, **DRAG, friction="smooth", eps=eps))
+        asm.connect(f"{name}_end.flange", f"{name}.flange_a")
+    _chain(asm, _prefix(ORDER_K), 2, ORDER_K)
+    return asm
+
+
+def _limits_order_figures(result: Result, asm: Assembly) -> list[Figure]:
+    figures = []
+    for name in ("rigid3", "rigid4"):
+        b, v = asm.component(name).values, asm.component(f"{name}_end").values["v"]
+        lo, hi = smooth_mode_slip_bracket("smooth", b["m"], b["k"], b["g"], b["mu_k"],
+                                          b["mu_s"], v, b["eps"])
+        slips = slip_times(result, name)
+        figures.append(Figure(f"t_{name}", f"K -> oo first, eps = {b['eps']:g}: the rigid "
+                              f"block's first slip [s] within [{lo:.4f}, {hi:.4f}] (-> "
+                              "mu_s m g / (k v) = 8 as eps -> 0)",
+                              slips[0] if slips else math.nan, (lo + hi) / 2,
+                              (hi - lo) / 2 + _accuracy(result, hi),
+                              source="bounds derived here from seed Eq. 9.5 (the rigid "
+                              "block's order of the limits, seed 9.3)"))
+    c, pre = _chain_numbers(asm, ORDER_K), _prefix(ORDER_K)
+    t_ref = chain_first_slip(2, c["m"], c["k"], c["g"], c["mu_s"], c["v"])
+    slips = slip_times(result, f"{pre}mass1")
+    figures.append(Figure("t_halves", f"eps -> 0 first (exact Coulomb), K = {ORDER_K:g} N/m: "
+                          "the front half's first slip [s] vs mu_s m g / (2 k v) = 4",
+                          slips[0] if slips else math.nan, t_ref,
+                          _accuracy(result, t_ref) + _held_input_delay(result),
+                          source="closed form (seed 9.3: only the front half is loaded)"))
+    # the two orders disagree by the factor n = 2 the seed points to: sliding starts earlier
+    rigid = figures[1].measured
+    figures.append(Figure("order_gap", "rigid block's slip (eps = 1e-4) / the halves' "
+                          "(orders of the limits differ: 2 as eps -> 0)",
+                          rigid / figures[2].measured, 2.0,
+                          2.0 * (figures[1].bound + abs(figures[1].reference - 8.0))
+                          / figures[2].reference + 2.0 * figures[2].bound / figures[2].reference,
+                          source="seed 9.3 (the distinguished limit: n times earlier)"))
+    return figures
+
+
 # --- 9.2 the smooth law, Fig. 9.4 ------------------------------------------------------
 SMOOTH_EPS, FINER_EPS = 1e-3, 1e-4  # [m/s] the seed's eps, and a tenth of it
 DELAY_ORDER = 2 / 3  # the slowest of the smooth law's errors: passing the fold of its peak
@@ -757,6 +807,17 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         reference="first slip μs m g/(n k v) = 4 for K = 1e2, 1e3, 1e4 (closed form: only the "
                   "front half is loaded before it slips); the rear half's slip → 6 as K → ∞ "
                   "(staircase limit, K^-1/2 convergence)"),
+    "limits_order": Scene(
+        "limits_order", "seed 9.3, the other order of the limits: K -> oo first (the rigid "
+        "block under Eq. 9.5, eps = 1e-3 and 1e-4) slips at ~8 s, eps -> 0 first (two halves, "
+        "exact Coulomb, K = 1e4 N/m) at 4 s",
+        _limits_order, stop_time=9.0, step=0.01, tolerance=1e-9,
+        record=[*_blocks_record(("rigid3", "rigid4"), ("x", "v", "mode")),
+                *[f"K4_mass{i}.{c}" for i in (1, 2) for c in ("s", "mode")]],
+        figures=_limits_order_figures, plot=["rigid4.v", "K4_mass1.s", "K4_mass2.s"],
+        mode="me", seed="9.3",
+        reference="K → ∞ then ε → 0: first slip within rigorous bounds from Eq. 9.5 → "
+                  "μs m g/(k v) = 8; ε → 0 then K → ∞: μs m g/(2 k v) = 4 (closed form)"),
     "distinguished_limit_n4": Scene(
         "distinguished_limit_n4", "seed 9.3: the block as n = 4 masses m/4 joined by stiff "
         "springs K = 1e2, 1e3, 1e4 N/m (exact Coulomb friction): the front mass slips "

@@ -32,7 +32,7 @@ def run(name, mode=None, **kw):
 def test_registered_with_seed_sections_and_references():
     assert set(NAMES) == {"steady_sliding", "stick_slip_damped", "stick_slip_smooth",
                           "distinguished_limit", "distinguished_limit_n4", "resonance_growth",
-                          "resonance_below", "resonance_eq_9_10"}
+                          "resonance_below", "resonance_eq_9_10", "limits_order"}
     for name in NAMES:
         sc = SCENES[name]
         assert sc.seed.startswith("9.") and sc.reference, name
