@@ -24,7 +24,7 @@ FAMILIES = {"friction": "FRICTION_SCENES", "axle": "AXLE_SCENES", "coin": "COIN_
             "beam": "BEAM_SCENES", "table": "TABLE_SCENES", "joined": "JOINED_SCENES",
             "speed_control": "SPEED_CONTROL_SCENES", "friction_seed": "SEED_FRICTION_SCENES",
             "bodies_seed": "SEED_BODY_SCENES", "bodies_exercises": "EXERCISE_SCENES",
-            "burridge_knopoff": "BURRIDGE_KNOPOFF_SCENES",
+            "sliding": "SLIDING_SCENES", "burridge_knopoff": "BURRIDGE_KNOPOFF_SCENES",
             "msl_translational": "MSL_TRANSLATIONAL_SCENES"}
 
 

@@ -14,6 +14,7 @@ fail under it.
 """
 from __future__ import annotations
 
+import functools
 import math
 from types import SimpleNamespace
 
@@ -27,8 +28,9 @@ from components.translational.elements import MassWithFriction, Spring
 
 from ..assembly import Assembly
 from ..result import Result
-from .friction_references import (DrivenCoulombBlock, chain_first_slip, damped_first_slip,
-                                  damped_stick_slip,
+from .friction_references import (LAW_BAND, DrivenCoulombBlock, chain_first_slip,
+                                  damped_first_slip, damped_stick_slip, eq_9_10,
+                                  eq_9_5_gross_slip, smooth_mode_slip_bracket,
                                   half_period_turning_points, perturbation_decay_rate,
                                   resonance_growth_rate, richardson_bound, slide_ends,
                                   sliding_perturbation, smooth_law_peak, smooth_slip_bracket,
@@ -40,6 +42,8 @@ from .references import stick_slip_first_cycle
 from .scene import Figure, Scene
 
 SEED = dict(m=1.0, k=1.0, g=1.0)          # chapter 9's units
+DRIFT_910 = 1e4  # a smooth motion's error over ~1e5 steps, as scene.DRIFT
+RATE_910_FROM = 40.0  # [s] the growth's fit starts once the motion is near its lock
 DRAG = dict(mu_k=0.3, mu_s=0.4)           # Eq. 9.4
 SPEED = 0.05                              # Eq. 9.4's driven end [m/s]
 
@@ -299,6 +303,93 @@ def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
                source=HALF_PERIOD_LAW)]
 
 
+# --- 9.5 Eq. 9.10 as the seed runs it ---------------------------------------------------
+EQ_9_10_EPS = 3e-3  # SpringBlock's tanh law is mu tanh(3 v / eps): Eq. 9.10's tanh(v / 0.001)
+EQ_9_10 = ("independent integration of seed Eq. 9.10 as printed (scipy Radau, rtol 1e-12, "
+           "written from the equation)")
+
+
+def _resonance_eq_9_10() -> Assembly:
+    asm = Assembly("resonance_eq_9_10")
+    for name, U in (("below", 0.4), ("growth", 1.0)):
+        asm.add(f"{name}_drive", SineMotion(U=U, omega=1.0))
+        asm.add(name, SpringBlock(**SEED, **{**RESONANCE, "x": 10.0}, friction="tanh",
+                                  eps=EQ_9_10_EPS))
+        asm.connect(f"{name}_drive.flange", f"{name}.flange_a")
+    return asm
+
+
+@functools.lru_cache(maxsize=8)
+def _eq_9_5(m, k, g, mu_k, mu_s, v, eps, t_end):
+    """Eq. 9.5's gross-slip instants, once per block and run length (scipy: ~1 s)."""
+    return eq_9_5_gross_slip(m, k, g, mu_k, mu_s, v, eps, t_end)
+
+
+@functools.lru_cache(maxsize=8)
+def _eq_9_10(U, x0, mu, scale, t):
+    """The reference, once per drive, start, law and output grid (scipy takes seconds)."""
+    return eq_9_10(U, x0, 0.0, np.array(t), mu=mu, scale=scale)
+
+
+def _turns_of(t, x, v, a):
+    """(t, x) at each zero of x' on the cubic Hermite interpolant of (v, a)."""
+    spline = CubicHermiteSpline(t, v, a)
+    roots = spline.roots(extrapolate=False)
+    roots = roots[(roots > t[0]) & (roots < t[-1])]
+    return roots, CubicHermiteSpline(t, x, v)(roots)
+
+
+def _resonance_eq_9_10_figures(result: Result, asm: Assembly) -> list[Figure]:
+    t = result["time"]
+    figures, refs = [], {}
+    for name in ("below", "growth"):
+        b, U = asm.component(name).values, asm.component(f"{name}_drive").values["U"]
+        x0 = asm.component(name).starts["x"]
+        refs[name] = x_ref, _ = _eq_9_10(U, x0, b["mu_k"], b["eps"] / 3, tuple(t))
+        # a smooth law's motion is continuous in its start and the solver keeps its
+        # local error at tol: accumulated over the run like a conservation figure's
+        figures.append(Figure(f"{name}_x", f"U = {U:g}: largest |x - x_Eq.9.10| over the run "
+                              "[m]", float(np.abs(result[f"{name}.x"] - x_ref).max()), 0.0,
+                              _accuracy(result, x0, DRIFT_910, drive_omega=1.0),
+                              source=EQ_9_10))
+    # Fig. 9.6's claim: no resonant growth at U = 0.4, |x| over the last forcing period
+    # far below its start (the reference's, at the same output times)
+    last = t >= t[-1] - 2 * math.pi
+    x0 = asm.component("below").starts["x"]
+    figures.append(Figure("below_amp", "U = 0.4: largest |x| over the last forcing period "
+                          "[m] (no growth: far below x(0) = 10)",
+                          float(np.abs(result["below.x"][last]).max()),
+                          float(np.abs(refs["below"][0][last]).max()),
+                          _accuracy(result, x0, DRIFT_910, drive_omega=1.0), source=EQ_9_10))
+    # growth: the seed's resonant rate from the run's turning points once locked, as in
+    # resonance_growth; the tanh law departs from Coulomb's only while |x'| < 20 x 0.001
+    # (beyond, |tanh - sign| < 1e-17), which each reversal crosses in at most
+    # 2 V / a_min, a_min = min |x| - U - mu: the friction impulse, and with it the
+    # amplitude, is off by at most 2 mu g that / w0 a half period, the slope by w0 / pi
+    # times that; the lock's truncation (its phase read off the reference) adds the rest
+    b, U = asm.component("growth").values, asm.component("growth_drive").values["U"]
+    late = t >= RATE_910_FROM
+    turn_t, turn_x = _turns_of(t[late], result["growth.x"][late], result["growth.v"][late],
+                               result["growth.a"][late])
+    j = np.round(turn_t / math.pi)
+    slope, spread = _fit_slope(j * math.pi, np.abs(turn_x)) if len(j) else (math.nan, math.nan)
+    x_ref, v_ref = refs["growth"]
+    a_ref = -x_ref + U * np.sin(t) - b["mu_k"] * np.tanh(3 * v_ref / b["eps"])
+    ref_t, ref_x = _turns_of(t[late], x_ref[late], v_ref[late], a_ref[late])
+    phi = float(np.abs(ref_t - math.pi * np.round(ref_t / math.pi)).max()) if len(ref_t) else math.nan
+    a_min = float(np.abs(ref_x).min()) - U - b["mu_k"] if len(ref_x) else math.nan
+    band = 2 * b["mu_k"] * b["g"] * 2 * (LAW_BAND * b["eps"] / 3) / a_min
+    lock = 2 * (float(np.abs(ref_x).max()) + b["mu_k"]) * (1 / math.cos(phi) - 1) \
+        + len(ref_t) * U * (phi - math.sin(phi))
+    figures.append(Figure("rate", f"U = {U:g}: growth of |x| at its turning points after "
+                          f"t = {RATE_910_FROM:g} s [m/s] vs (U pi - 4 mu) / (2 pi)", slope,
+                          resonance_growth_rate(b["m"], b["k"], b["g"], b["mu_k"], U),
+                          band / math.pi + spread * lock + spread * _accuracy(result, 10.0),
+                          source="seed 9.5 (the rate is Coulomb's; Eq. 9.10 smooths it within "
+                          "the band bound)"))
+    return figures
+
+
 # --- 9.3 the distinguished limit -------------------------------------------------------
 STIFFNESSES = (1e2, 1e3, 1e4)  # K [N/m] of the springs inside the block
 
@@ -535,6 +626,56 @@ def _stick_slip_damped_figures(result: Result, asm: Assembly) -> list[Figure]:
     return figures
 
 
+# --- 9.3 the two orders of the limits ---------------------------------------------------
+ORDER_K = 1e4  # [N/m] the stiffest chain of distinguished_limit
+
+
+def _limits_order() -> Assembly:
+    """K -> oo first: the rigid block (a chain with K = oo is one mass) under Eq. 9.5 at
+    eps = 1e-3 and 1e-4, eps -> 0 after; eps -> 0 first: the two halves with exact
+    Coulomb friction, K = 1e4 N/m."""
+    asm = Assembly("limits_order")
+    for name, eps in (("rigid3", SMOOTH_EPS), ("rigid4", FINER_EPS)):
+        asm.add(f"{name}_end", ConstantSpeed(v=SPEED))
+        asm.add(name, SpringBlock(**SEED, **DRAG, friction="smooth", eps=eps))
+        asm.connect(f"{name}_end.flange", f"{name}.flange_a")
+    _chain(asm, _prefix(ORDER_K), 2, ORDER_K)
+    return asm
+
+
+def _limits_order_figures(result: Result, asm: Assembly) -> list[Figure]:
+    figures = []
+    for name in ("rigid3", "rigid4"):
+        b, v = asm.component(name).values, asm.component(f"{name}_end").values["v"]
+        lo, hi = smooth_mode_slip_bracket("smooth", b["m"], b["k"], b["g"], b["mu_k"],
+                                          b["mu_s"], v, b["eps"])
+        slips = slip_times(result, name)
+        figures.append(Figure(f"t_{name}", f"K -> oo first, eps = {b['eps']:g}: the rigid "
+                              f"block's first slip [s] within [{lo:.4f}, {hi:.4f}] (-> "
+                              "mu_s m g / (k v) = 8 as eps -> 0)",
+                              slips[0] if slips else math.nan, (lo + hi) / 2,
+                              (hi - lo) / 2 + _accuracy(result, hi),
+                              source="bounds derived here from seed Eq. 9.5 (the rigid "
+                              "block's order of the limits, seed 9.3)"))
+    c, pre = _chain_numbers(asm, ORDER_K), _prefix(ORDER_K)
+    t_ref = chain_first_slip(2, c["m"], c["k"], c["g"], c["mu_s"], c["v"])
+    slips = slip_times(result, f"{pre}mass1")
+    figures.append(Figure("t_halves", f"eps -> 0 first (exact Coulomb), K = {ORDER_K:g} N/m: "
+                          "the front half's first slip [s] vs mu_s m g / (2 k v) = 4",
+                          slips[0] if slips else math.nan, t_ref,
+                          _accuracy(result, t_ref) + _held_input_delay(result),
+                          source="closed form (seed 9.3: only the front half is loaded)"))
+    # the two orders disagree by the factor n = 2 the seed points to: sliding starts earlier
+    rigid = figures[1].measured
+    figures.append(Figure("order_gap", "rigid block's slip (eps = 1e-4) / the halves' "
+                          "(orders of the limits differ: 2 as eps -> 0)",
+                          rigid / figures[2].measured, 2.0,
+                          2.0 * (figures[1].bound + abs(figures[1].reference - 8.0))
+                          / figures[2].reference + 2.0 * figures[2].bound / figures[2].reference,
+                          source="seed 9.3 (the distinguished limit: n times earlier)"))
+    return figures
+
+
 # --- 9.2 the smooth law, Fig. 9.4 ------------------------------------------------------
 SMOOTH_EPS, FINER_EPS = 1e-3, 1e-4  # [m/s] the seed's eps, and a tenth of it
 DELAY_ORDER = 2 / 3  # the slowest of the smooth law's errors: passing the fold of its peak
@@ -596,6 +737,16 @@ def _stick_slip_smooth_figures(result: Result, asm: Assembly) -> list[Figure]:
         figures.append(Figure(name, f"eps = {eps:g}: {what} [s] vs the exact Coulomb time",
                               coarse[i], exact[i], accuracy,
                               source="seed Eq. 9.4 exact Coulomb times (closed form), with Eq. 9.5's peak deficit and an eps -> eps/10 study"))
+    # the same instants against Eq. 9.5 itself, integrated independently: what the ten
+    # printed digits of t1 and t2 are good for (the solver's accuracy at located events)
+    law = _eq_9_5(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, eps,
+                  float(result["time"][-1]))
+    for i, name in ((0, "t1_law"), (1, "t2_law")):
+        figures.append(Figure(name, f"eps = {eps:g}: the same instant [s] vs Eq. 9.5 "
+                              "integrated independently", coarse[i], law[i],
+                              _accuracy(result, law[i]),
+                              source="independent integration of seed Eq. 9.5 (scipy Radau, "
+                              "rtol 1e-12, written from the equation)"))
     for name, start, e in (("smooth", coarse[0], eps), ("finer", fine[0], eps_fine)):
         lo, hi = smooth_slip_bracket(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, e)
         figures.append(Figure(f"t1_bounds_{name}", f"eps = {e:g}: first slip [s] within "
@@ -636,6 +787,16 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         figures=_stick_slip_smooth_figures, picture=plot_smooth, seed="9.2, Fig. 9.4",
         reference="exact t1 = 8, t2 = 12.0689, within Eq. 9.5's peak deficit (μmax = 0.39868) "
                   "and an ε → ε/10 convergence bound; rigorous bounds on the slip onset"),
+    "resonance_eq_9_10": Scene(
+        "resonance_eq_9_10", "seed 9.5, Figs. 9.6 and 9.7 as the seed computes them: Eq. 9.10, "
+        "mu tanh(x'/0.001) (SpringBlock's tanh law with eps = 0.003), U = 0.4 and U = 1 from "
+        "x(0) = 10",
+        _resonance_eq_9_10, stop_time=80.0, step=0.05, tolerance=1e-10,
+        record=_blocks_record(("below", "growth"), ("x", "v", "a")),
+        figures=_resonance_eq_9_10_figures, plot=["below.x", "growth.x"], mode="me",
+        seed="9.5, Eq. 9.10, Figs. 9.6–9.7",
+        reference="x(t) of Eq. 9.10 integrated independently (scipy Radau); U = 1 grows at "
+                  "(Uπ − 4μ)/(2π) = 0.118 within the tanh band's bound"),
     "distinguished_limit": Scene(
         "distinguished_limit", "seed 9.3: the block as two halves m/2 joined by a stiff "
         "spring K = 1e2, 1e3, 1e4 N/m, pulled as in 9.2 (exact Coulomb friction): the front "
@@ -646,6 +807,17 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         reference="first slip μs m g/(n k v) = 4 for K = 1e2, 1e3, 1e4 (closed form: only the "
                   "front half is loaded before it slips); the rear half's slip → 6 as K → ∞ "
                   "(staircase limit, K^-1/2 convergence)"),
+    "limits_order": Scene(
+        "limits_order", "seed 9.3, the other order of the limits: K -> oo first (the rigid "
+        "block under Eq. 9.5, eps = 1e-3 and 1e-4) slips at ~8 s, eps -> 0 first (two halves, "
+        "exact Coulomb, K = 1e4 N/m) at 4 s",
+        _limits_order, stop_time=9.0, step=0.01, tolerance=1e-9,
+        record=[*_blocks_record(("rigid3", "rigid4"), ("x", "v", "mode")),
+                *[f"K4_mass{i}.{c}" for i in (1, 2) for c in ("s", "mode")]],
+        figures=_limits_order_figures, plot=["rigid4.v", "K4_mass1.s", "K4_mass2.s"],
+        mode="me", seed="9.3",
+        reference="K → ∞ then ε → 0: first slip within rigorous bounds from Eq. 9.5 → "
+                  "μs m g/(k v) = 8; ε → 0 then K → ∞: μs m g/(2 k v) = 4 (closed form)"),
     "distinguished_limit_n4": Scene(
         "distinguished_limit_n4", "seed 9.3: the block as n = 4 masses m/4 joined by stiff "
         "springs K = 1e2, 1e3, 1e4 N/m (exact Coulomb friction): the front mass slips "
