@@ -132,15 +132,19 @@ def _figures(result: Result, asm: Assembly) -> list[Figure]:
     t = fault.totals
     return [
         Figure("t_first", "first break-away [s] (closed form (F_i - B_i) / (kp V))",
-               first_fmu, first, _coupling_accuracy(result, first)),
+               first_fmu, first, _coupling_accuracy(result, first),
+               source='closed form (stuck chain under a uniformly moving plate, derived here)'),
         Figure("slides", f"FMUs: largest slide start/end error over the {len(ref)} slides "
                "[s] (vs scipy's event-driven integration at tol/100)",
-               _slide_error(fmu, ref), 0.0, fmu_bound),
+               _slide_error(fmu, ref), 0.0, fmu_bound,
+               source='independent integration (scipy event-driven, fault_references)'),
         Figure("solver", f"fault solver: largest slide start/end error over the {len(ref)} "
-               "slides [s] (vs scipy)", _slide_error(solver, ref), 0.0, bound),
+               "slides [s] (vs scipy)", _slide_error(solver, ref), 0.0, bound,
+               source='independent integration (scipy event-driven, fault_references)'),
         Figure("energy", "fault solver: friction dissipation + change in stored energy [J] "
                "(vs the plate's work)", t["dissipated"] + t["E_end"] - t["E_start"],
-               t["plate_work"], DRIFT * tol, relative=True),
+               t["plate_work"], DRIFT * tol, relative=True,
+               source='conservation law (plate work = dissipation + stored energy)'),
     ]
 
 
@@ -220,7 +224,8 @@ def fault_study(n: int = 1000, events: int = 10_000, *, ell: float = 10.0,
     t = run.totals
     figures = [Figure("energy", "friction dissipation + change in stored energy [J] (vs the "
                       "plate's work)", t["dissipated"] + t["E_end"] - t["E_start"],
-                      t["plate_work"], DRIFT * tol, relative=True),
+                      t["plate_work"], DRIFT * tol, relative=True,
+           source='conservation law (plate work = dissipation + stored energy)'),
                small_event_b(run.catalogue, sigma, ell)]
     return run, figures
 
@@ -251,7 +256,8 @@ def small_event_b(cat: np.ndarray, sigma: float, ell: float, batches: int = 10) 
     return Figure("b", f"Gutenberg-Richter b of the {used} events with moment in "
                   f"[{lo:.2g}, {hi:.2g}] (maximum likelihood; accuracy: 99% half-width, "
                   f"{quantile:.2f} x {spread:.2g} over {batches} stretches or 3 x {err:.2g}; "
-                  "Carlson & Langer 1989: b = 1)", b, CL_B, max(quantile * spread, 3 * err))
+                  "Carlson & Langer 1989: b = 1)", b, CL_B, max(quantile * spread, 3 * err),
+           source='Carlson & Langer 1989 (small-event scaling b = 1)')
 
 
 def _distribution(alpha: float, n: int, events: int, edges: np.ndarray, study: dict) -> dict:

@@ -101,9 +101,11 @@ def _oscillator_figures(result: Result, asm: Assembly) -> list[Figure]:
         acc = solver_accuracy(result, 1.0) * amplitude
         figures.append(Figure(f"s{k}_end", f"mass{k} position at the stop time [m] vs the "
                               "closed form of m x'' + d x' + c x = F sin(w t) from rest",
-                              float(s[-1]), float(s_ref[-1]), acc))
+                              float(s[-1]), float(s_ref[-1]), acc,
+               source='closed form (forced oscillator from rest, derived here)'))
         figures.append(Figure(f"amp{k}", f"mass{k} largest |s - s0| [m] vs closed form",
-                              float(np.max(np.abs(s - OSC["s0"]))), amplitude, acc))
+                              float(np.max(np.abs(s - OSC["s0"]))), amplitude, acc,
+               source='closed form (forced oscillator from rest, derived here)'))
         # energy: the force's work = kinetic + elastic + dissipated, by quadrature
         F = result[f"sine{k}.y"]
         W, err_w = _work(result, F * v)
@@ -111,7 +113,8 @@ def _oscillator_figures(result: Result, asm: Assembly) -> list[Figure]:
         E = OSC["m"] * v[-1]**2 / 2 + OSC["c"] * (s[-1] - OSC["s0"])**2 / 2
         figures.append(Figure(f"W{k}", f"work of force{k} [J] vs kinetic + elastic energy + "
                               "damper loss", W, E + D, err_w + err_d + solver_accuracy(
-                                  result, 1.0) * max(E, 1e-3)))
+                                  result, 1.0) * max(E, 1e-3),
+               source='conservation law (work = kinetic + elastic energy + damper loss)'))
     # the damped mass settles at the closed-form amplitude F / sqrt((c - m w^2)^2 + (d w)^2)
     late = t >= t[-1] - 2 * (2 * math.pi / w)
     transient = math.exp(-OSC["d"] / (2 * OSC["m"]) * t[late][0])  # of the start's 1e-3 m
@@ -120,7 +123,8 @@ def _oscillator_figures(result: Result, asm: Assembly) -> list[Figure]:
                           "F / sqrt((c - m w^2)^2 + (d w)^2)",
                           float(np.max(np.abs(result["mass2.s"][late] - OSC["s0"]))), steady,
                           # what is left of the transient, plus sampling a peak at 1e-4 s
-                          2 * transient * steady + steady * (w * (t[1] - t[0]))**2 / 2))
+                          2 * transient * steady + steady * (w * (t[1] - t[0]))**2 / 2,
+           source='closed form (steady forced oscillation)'))
     return figures
 
 
@@ -203,21 +207,25 @@ def _friction_figures(result: Result, asm: Assembly) -> list[Figure]:
             after = t_prev + (t_ref - t_prev) / 2
             figures.append(Figure(f"{name}_t{k + 1}", f"{name}: time of its event {k + 1} "
                                   f"(into mode {q_ref:+d}) [s] vs event-driven reference",
-                                  _first(ours, q_ref, after), t_ref, acc))
+                                  _first(ours, q_ref, after), t_ref, acc,
+                   source="independent integration (event-driven scipy of MSL's friction law)"))
         s_ref, v_ref = traj.s[-1], traj.v[-1]
         figures.append(Figure(f"{name}_s_end", f"{name} position at the stop time [m] vs "
                               "event-driven reference", float(result[f"{name}.s"][-1]), s_ref,
-                              acc * max(1.0, abs(s_ref)) * 10))
+                              acc * max(1.0, abs(s_ref)) * 10,
+               source="independent integration (event-driven scipy of MSL's friction law)"))
         figures.append(Figure(f"{name}_v_end", f"{name} speed at the stop time [m/s] vs "
                               "event-driven reference", float(result[f"{name}.v"][-1]), v_ref,
-                              acc * 10))
+                              acc * 10,
+               source="independent integration (event-driven scipy of MSL's friction law)"))
     # stop1's energy: the force's work = kinetic energy + friction loss
     v = result["stop1.v"]
     W, err_w = _work(result, result["sineForce.y"] * v)
     D, err_d = _work(result, result["stop1.lossPower"])
     E = STOP1["m"] * v[-1]**2 / 2
     figures.append(Figure("stop1_W", "work of the sine force on stop1 [J] vs kinetic energy + "
-                          "friction loss", W, E + D, err_w + err_d + acc * max(1.0, W) * 10))
+                          "friction loss", W, E + D, err_w + err_d + acc * max(1.0, W) * 10,
+           source='conservation law (work = kinetic energy + friction loss)'))
     return figures
 
 
@@ -249,15 +257,18 @@ def _brake_figures(result: Result, asm: Assembly) -> list[Figure]:
     for name in ("brake", "brake1"):
         figures.append(Figure(f"{name}_t_stop", f"{name}: time the mass sticks [s] vs "
                               "t_on + m v0 / (mu fn)", _first(_events(result, name), 0), t_stop,
-                              acc))
+                              acc,
+               source='closed form (constant brake force, derived here)'))
         figures.append(Figure(f"{name}_s_end", f"{name}: position at the stop time [m] vs "
                               "v0 t_on + m v0^2 / (2 mu fn)", float(result[f"{name}.s"][-1]),
-                              s_stop, acc))
+                              s_stop, acc,
+               source='closed form (constant brake force, derived here)'))
         v = result[f"{name}.v"]
         D, err = _work(result, result[f"{name}.lossPower"])
         figures.append(Figure(f"{name}_loss", f"{name}: energy dissipated [J] vs m v0^2 / 2",
                               D + BRAKE["m"] * v[-1]**2 / 2, BRAKE["m"] * BRAKE["v0"]**2 / 2,
-                              err + acc))
+                              err + acc,
+               source='conservation law (kinetic energy = brake loss)'))
     return figures
 
 
@@ -326,17 +337,21 @@ def _elastogap_figures(result: Result, asm: Assembly) -> list[Figure]:
     x1, _ = ref.damped_free(t, GAP["m"], 2 * GAP["c"], 2 * GAP["d"], GAP["s0"])
     figures = [Figure("mass1_s_end", "mass1 position at the stop time [m] vs the closed form "
                       "of m x'' + 2 d x' + 2 c x = 0", float(result["mass1.s"][-1]),
-                      float(x1[-1]), acc),
+                      float(x1[-1]), acc,
+           source='closed form (damped oscillator, derived here)'),
                Figure("mass1_err", "mass1 largest deviation from the closed form [m]",
-                      float(np.max(np.abs(result["mass1.s"] - x1))), 0.0, acc_run)]
+                      float(np.max(np.abs(result["mass1.s"] - x1))), 0.0, acc_run,
+                      source='closed form (damped oscillator, derived here)')]
     sol = elastogap_reference(float(t[-1]))
     s2 = sol.sol(t)[0]
     lifts = sorted(float(x) for te in sol.t_events for x in te)
     figures.append(Figure("mass2_s_end", "mass2 position at the stop time [m] vs scipy from "
                           "MSL's ElastoGap law", float(result["mass2.s"][-1]), float(s2[-1]),
-                          acc))
+                          acc,
+           source="independent integration (scipy of MSL's documented ElastoGap law)"))
     figures.append(Figure("mass2_err", "mass2 largest deviation from the scipy reference [m]",
-                          float(np.max(np.abs(result["mass2.s"] - s2))), 0.0, acc_run))
+                          float(np.max(np.abs(result["mass2.s"] - s2))), 0.0, acc_run,
+           source="independent integration (scipy of MSL's documented ElastoGap law)"))
     # the first lift-off from the right gap: mass2 passes s = wall - gap_rel0
     lift = GAP["wall"] - GAP["gap_rel0"]
     s = result["mass2.s"]
@@ -345,14 +360,16 @@ def _elastogap_figures(result: Result, asm: Assembly) -> list[Figure]:
     figures.append(Figure("mass2_lift_off", "time mass2 leaves the right gap [s] vs scipy "
                           "(sampled, linear interpolation)", measured,
                           lifts[0] if lifts else math.nan,
-                          acc + (t[1] - t[0])**2 * GAP["c"] * GAP["s0"]))
+                          acc + (t[1] - t[0])**2 * GAP["c"] * GAP["s0"],
+           source="independent integration (scipy of MSL's documented ElastoGap law)"))
     # energy of mass2: elastic at the start = kinetic + elastic + damper loss
     D, err = _work(result, result["elastoGap1.lossPower"] + result["elastoGap2.lossPower"])
     E0 = GAP["c"] * (GAP["s0"] - lift)**2 / 2
     E = (GAP["m"] * result["mass2.v"][-1]**2 / 2 + result["elastoGap1.E"][-1]
          + result["elastoGap2.E"][-1])
     figures.append(Figure("mass2_energy", "mass2: initial elastic energy [J] vs kinetic + "
-                          "elastic + damper loss", float(E + D), E0, err + acc * E0))
+                          "elastic + damper loss", float(E + D), E0, err + acc * E0,
+           source='conservation law (elastic energy = kinetic + elastic + damper loss)'))
     return figures
 
 
