@@ -5,7 +5,7 @@ with the whole assembly (a 32-block chain: 108,000 lines, one ``mf_out`` of 30,0
 thousands of locals), and gcc's time on such functions grows faster than their length
 (n = 16: 7 s, n = 32: 24 s, n = 64: over ten minutes). One call per member instead of
 one expression changes nothing: CasADi writes every call out, and the functions stay
-as long.
+as long. (Small assemblies keep the flattened expression: FLAT_LIMIT.)
 
 So each member's equations become small SX functions (its derivatives, each output,
 its indicators, its jumps), one per *kind*: members whose equations are the same up to
@@ -87,6 +87,22 @@ class _Values:
                 inverse[pos] = i
             v = ca.vec(v[inverse])
         return v
+
+
+# Below this many SX instructions (derivatives, outputs, indicators, jumps) the flattened
+# expression is kept: gcc builds it in seconds (a 16-block chain, 17,000 instructions:
+# 7 s; 32 blocks, 35,000: 24 s; then minutes), and its straight-line C runs 2-2.5x
+# faster than the maps' gathers and calls on small assemblies (two_block_belt, 1,700:
+# 1.5 against 3.2 ms at tolerance 1e-5). Every scene of the library is below it.
+FLAT_LIMIT = 20_000
+
+
+def worth_mapping(model) -> bool:
+    """Whether the flattened `model` is too large to compile as one expression."""
+    from fmus.codegen import computed_outputs
+    whole = ca.Function("size", model.args, [model.xdot, computed_outputs(model), model.z,
+                                             model.jump_x, model.jump_q])
+    return whole.n_instructions() > FLAT_LIMIT
 
 
 def member_functions(joined, model) -> dict:

@@ -324,10 +324,10 @@ class Composite(Component):
     open_ports: tuple = ()  # (port name in the composite, instance, port)
 
     def vectorised_functions(self, model) -> dict:
-        # one function per member kind, called per member: the C grows with the
-        # assembly, not with its flattened expression (see composite_code)
-        from .composite_code import member_functions
-        return member_functions(self.joined, model)
+        # a large assembly: one function per member kind, mapped over the members, so
+        # that the C grows with the kinds, not with the flattened expression
+        from .composite_code import member_functions, worth_mapping
+        return member_functions(self.joined, model) if worth_mapping(model) else {}
 
     def equations(self, e):
         m = self.joined

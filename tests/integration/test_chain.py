@@ -22,8 +22,7 @@ def run():
     return asm, simulate_me(asm, STOP, STEP, TOL, record=positions(N) + modes)
 
 
-def test_block1_slips_first_when_its_wall_link_reaches_the_static_limit(run):
-    asm, res = run
+def _first_slip_is_the_closed_form(asm, res):
     t_slip = chain_first_slip(asm)  # (mu_s m g - d v) / (c v) = 2 s here
     assert t_slip == pytest.approx(2.0)
     first = {}
@@ -39,14 +38,41 @@ def test_block1_slips_first_when_its_wall_link_reaches_the_static_limit(run):
     assert min(first[2], first[3]) > t_slip + 0.1
 
 
-def test_chain_settles_to_the_sliding_equilibrium(run):
-    asm, res = run
+def _settles_to_the_sliding_equilibrium(asm, res):
     s_eq = chain_sliding_equilibrium(asm)  # K s = mu_k m g: 0.9, 1.5, 1.8 m
     np.testing.assert_allclose(s_eq, [0.9, 1.5, 1.8], rtol=1e-12)
     s_end = np.array([res[c][-1] for c in positions(N)])
     np.testing.assert_allclose(s_end, s_eq, rtol=0, atol=1e-5)
     # and every block slides backward on the belt at the end (kinetic friction holds it)
     assert all(res[f"block{i}.mode"][-1] == -1 for i in range(1, N + 1))
+
+
+def test_block1_slips_first_when_its_wall_link_reaches_the_static_limit(run):
+    _first_slip_is_the_closed_form(*run)
+
+
+def test_chain_settles_to_the_sliding_equilibrium(run):
+    _settles_to_the_sliding_equilibrium(*run)
+
+
+def test_the_composite_of_member_maps_does_the_same_physics(monkeypatch):
+    """The composite FMU whose functions are maps over member kinds (what a chain beyond
+    FLAT_LIMIT gets, forced here at N = 3) validates with fmpy and, run by the engine,
+    meets the same closed forms."""
+    from fmpy.validation import validate_fmu
+
+    from assemblies.engine import simulate_monolithic
+    from assemblies.masters import composite_code
+    from assemblies.masters.monolithic import composite
+    from fmus import build_fmu
+    monkeypatch.setattr(composite_code, "FLAT_LIMIT", 0)
+    asm = friction_chain(N, **PARAMS)
+    asm.name = "chain_of_member_maps"  # its own recipe: never the flattened composite's
+    assert validate_fmu(str(build_fmu(composite(asm)))) == []
+    modes = [f"block{i}.mode" for i in range(1, N + 1)]
+    res = simulate_monolithic(asm, STOP, STEP, TOL, record=positions(N) + modes)
+    _first_slip_is_the_closed_form(asm, res)
+    _settles_to_the_sliding_equilibrium(asm, res)
 
 
 def test_bad_size_is_refused_with_its_name():

@@ -6,7 +6,8 @@ import re
 import numpy as np
 import pytest
 
-from assemblies.masters.composite_code import member_functions
+from assemblies.masters import composite_code
+from assemblies.masters.composite_code import member_functions, worth_mapping
 from assemblies.masters.monolithic import composite
 from assemblies.scenes import SCENES
 from benchmarks.chain import bench_chain
@@ -54,10 +55,11 @@ def test_member_maps_compute_what_the_flattened_model_computes(name):
                                            err_msg=f"{name}: {key}")
 
 
-def test_the_generated_code_does_not_grow_with_the_chain():
+def test_the_generated_code_does_not_grow_with_the_chain(monkeypatch):
     """The same C functions for 4 and 16 blocks, and nearly the same code: what grows is
     data (index tables, the variable table) and comments, not what gcc optimises. The
     flattened expression grew by about 3,300 lines of code per block."""
+    monkeypatch.setattr(composite_code, "FLAT_LIMIT", 0)  # maps at every size
     def code(n):
         text = generate_c(flatten(composite(bench_chain(n))), "chain", "token")
         functions = text.count("static int casadi_f")
@@ -67,3 +69,11 @@ def test_the_generated_code_does_not_grow_with_the_chain():
     (f4, lines4), (f16, lines16) = code(4), code(16)
     assert f4 == f16
     assert (lines16 - lines4) / 12 < 30  # one variable-table row per variable, ~20 a block
+
+
+def test_small_assemblies_keep_the_flattened_expression():
+    """Every scene compiles as one expression (faster C, a build of seconds); a chain of
+    32 blocks (35,000 instructions, 24 s of gcc flattened) is mapped."""
+    assert not worth_mapping(flatten(composite(SCENES["distinguished_limit_n4"].build())))
+    assert not worth_mapping(flatten(composite(bench_chain(16))))
+    assert worth_mapping(flatten(composite(bench_chain(32))))
