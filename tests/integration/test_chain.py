@@ -78,3 +78,27 @@ def test_the_composite_of_member_maps_does_the_same_physics(monkeypatch):
 def test_bad_size_is_refused_with_its_name():
     with pytest.raises(ValueError, match="n must be an integer >= 1"):
         friction_chain(0)
+
+
+def test_event_location_per_instance_finds_the_same_events(monkeypatch):
+    """The engine's me master locating each instance's events alone (what a chain of 16
+    blocks and more gets, forced here at N = 3) meets the closed forms, and finds the
+    same events as the look at the whole assembly."""
+    from assemblies.engine import me as engine_me
+    modes = [f"block{i}.mode" for i in range(1, N + 1)]
+    runs = {}
+    for name, local_from in (("chain_whole_look", 10**9), ("chain_local_look", 1)):
+        monkeypatch.setattr(engine_me, "LOCAL_EVENTS_FROM", local_from)
+        asm = friction_chain(N, **PARAMS)
+        asm.name = name  # a plan of its own
+        runs[name] = asm, engine_me.simulate_me(asm, STOP, STEP, TOL, record=positions(N) + modes)
+    asm, res = runs["chain_local_look"]
+    _first_slip_is_the_closed_form(asm, res)
+    _settles_to_the_sliding_equilibrium(asm, res)
+    whole = runs["chain_whole_look"][1]
+    assert (res.settings["event_location"], whole.settings["event_location"]) == \
+        ("per instance", "whole assembly")
+    assert res.settings["events"] == whole.settings["events"]
+    for i in range(1, N + 1):
+        np.testing.assert_allclose(res.events[f"block{i}"]["time"],
+                                   whole.events[f"block{i}"]["time"], rtol=0, atol=1e-12)
