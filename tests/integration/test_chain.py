@@ -102,3 +102,23 @@ def test_event_location_per_instance_finds_the_same_events(monkeypatch):
     for i in range(1, N + 1):
         np.testing.assert_allclose(res.events[f"block{i}"]["time"],
                                    whole.events[f"block{i}"]["time"], rtol=0, atol=1e-12)
+
+
+def test_indicator_couplings_out_of_range_are_refused_before_the_run(monkeypatch):
+    """The C checks the per-instance lists before it sizes anything by them."""
+    import ctypes
+
+    from assemblies.engine import EngineError
+    from assemblies.engine import me as engine_me
+    monkeypatch.setattr(engine_me, "LOCAL_EVENTS_FROM", 1)
+    asm = friction_chain(2, **PARAMS)
+    asm.name = "chain_hostile_indicator_plan"
+    # twice: the first call's plan is keyed before the causality is resolved
+    engine_me.simulate_me(asm, 1.0, 0.5, 1e-6)
+    engine_me.simulate_me(asm, 1.0, 0.5, 1e-6)
+    plan = list(engine_me._plans.values())[-1]
+    assert plan.indicator_start is not None and "block2" in plan.names
+    n = plan.indicator_start[len(plan.names)]
+    plan.indicator_coupling = plan.keep.array(ctypes.c_int, [10**6] * n)
+    with pytest.raises(EngineError, match="indicator_coupling: couplings out of range"):
+        engine_me.simulate_me(asm, 1.0, 0.5, 1e-6)
