@@ -1063,12 +1063,21 @@ static int plan_couplings(me_master *M, coupling_plan *P, const int *needed)
     for (i = 0; i <= n; i++) {
         /* close the segment start .. i-1 */
         if (i == n || targeted[live(M, P, i)->source.instance]) {
-            int w = start, inst;
+            int w = start;
             for (j = start; j < i; j++) P->segment_end[j] = i - 1;
-            for (inst = 0; inst < M->n; inst++) /* stable: by target instance */
-                for (j = start; j < i; j++)
-                    if (live(M, P, j)->target.instance == inst) P->write_order[w++] = j;
-            memset(targeted, 0, (size_t)M->n);
+            /* stable by target instance: an insertion per coupling, not a pass over every
+               instance per segment (an assembly's per-instance indicator plans made that
+               quadratic in its size) */
+            for (j = start; j < i; j++) {
+                const int target = live(M, P, j)->target.instance;
+                int k = w++;
+                while (k > start && live(M, P, P->write_order[k - 1])->target.instance > target) {
+                    P->write_order[k] = P->write_order[k - 1];
+                    k--;
+                }
+                P->write_order[k] = j;
+                targeted[target] = 0;
+            }
             start = i;
         }
         if (i < n) targeted[live(M, P, i)->target.instance] = 1;
