@@ -120,5 +120,6 @@ def test_indicator_couplings_out_of_range_are_refused_before_the_run(monkeypatch
     assert plan.indicator_start is not None and "block2" in plan.names
     n = plan.indicator_start[len(plan.names)]
     plan.indicator_coupling = plan.keep.array(ctypes.c_int, [10**6] * n)
+    plan.spec = None  # the plan's MeSpec, made once from its fields, is made again
     with pytest.raises(EngineError, match="indicator_coupling: couplings out of range"):
         engine_me.simulate_me(asm, 1.0, 0.5, 1e-6)
