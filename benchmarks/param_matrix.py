@@ -91,10 +91,13 @@ def nudge(inst, name: str, value: float):
     return next((c for c in candidates + [value] if _accepts(inst, name, c)), None)
 
 
-def _option_values(option, quick: bool) -> list:
+def _option_values(option, quick: bool, current=None) -> list:
     if isinstance(option.choices, range):
         lo, hi = option.choices.start, option.choices.stop - 1
-        return ([lo] if quick else [lo, hi]) + list(getattr(option, "words", ()))
+        # quick: one value, the lowest unless the instance has it (then the name would
+        # go unset: a table of one row)
+        ends = [lo if lo != current else hi] if quick else [lo, hi]
+        return ends + list(getattr(option, "words", ()))
     if not option.choices:  # a number (the beam's accuracy): a valid one nearby
         number = float(option.default)
         return [number / 10 if option.parse(number / 10) is not None else number * 1.01]
@@ -125,7 +128,7 @@ def cases(sc, quick: bool = False) -> list[Case]:
                 if value is not None:
                     aliases[f"{name}.{key}"] = value
         for option in inst.options:
-            for value in _option_values(option, quick):
+            for value in _option_values(option, quick, inst.option(option.name)):
                 if value != inst.option(option.name):
                     optional.append(Case(f"{name}.{option.name}={value}",
                                          {f"{name}.{option.name}": value}))

@@ -332,7 +332,10 @@ def _eq_9_10(U, x0, mu, scale, t):
 
 
 def _turns_of(t, x, v, a):
-    """(t, x) at each zero of x' on the cubic Hermite interpolant of (v, a)."""
+    """(t, x) at each zero of x' on the cubic Hermite interpolant of (v, a); none on
+    fewer than two samples (a run stopped before the window)."""
+    if len(t) < 2:
+        return np.empty(0), np.empty(0)
     spline = CubicHermiteSpline(t, v, a)
     roots = spline.roots(extrapolate=False)
     roots = roots[(roots > t[0]) & (roots < t[-1])]
@@ -380,7 +383,7 @@ def _resonance_eq_9_10_figures(result: Result, asm: Assembly) -> list[Figure]:
     a_min = float(np.abs(ref_x).min()) - U - b["mu_k"] if len(ref_x) else math.nan
     band = 2 * b["mu_k"] * b["g"] * 2 * (LAW_BAND * b["eps"] / 3) / a_min
     lock = 2 * (float(np.abs(ref_x).max()) + b["mu_k"]) * (1 / math.cos(phi) - 1) \
-        + len(ref_t) * U * (phi - math.sin(phi))
+        + len(ref_t) * U * (phi - math.sin(phi)) if len(ref_x) else math.nan
     figures.append(Figure("rate", f"U = {U:g}: growth of |x| at its turning points after "
                           f"t = {RATE_910_FROM:g} s [m/s] vs (U pi - 4 mu) / (2 pi)", slope,
                           resonance_growth_rate(b["m"], b["k"], b["g"], b["mu_k"], U),
