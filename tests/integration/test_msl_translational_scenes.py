@@ -26,18 +26,9 @@ def test_registered_with_references():
         assert SCENES[name].reference and "MSL Translational.Examples" in SCENES[name].description
 
 
-# stop2 of Friction hits its stop: an impact resets its speed to 0 inside a coupled
-# loop (spring - mass), and the engine's adaptive co-simulation cannot meet its
-# tolerance across that reset (it shrinks the step to 1e-14 s at t = 0.0606 s)
-IMPACT = pytest.mark.xfail(strict=True, reason="adaptive co-simulation across a velocity "
-                           "reset (an impact at a hard stop) fails in the engine")
-
-
 @pytest.mark.parametrize("mode", MODES)
 @pytest.mark.parametrize("name", NAMES)
-def test_every_figure_passes_in_every_mode(name, mode, request):
-    if (name, mode) == ("translational_friction", "cosim"):
-        request.applymarker(IMPACT)
+def test_every_figure_passes_in_every_mode(name, mode):
     r = run(name, mode)
     assert r.passed, r.table()
     assert len(r.result.figures) >= 5
