@@ -6,6 +6,7 @@ import pytest
 
 from assemblies.run import run_scene_full
 from assemblies.scenes import SCENES
+from assemblies.scenes import msl_preload_reference as pre
 from assemblies.scenes.msl_translational import MSL_TRANSLATIONAL_SCENES, friction_references
 
 NAMES = list(MSL_TRANSLATIONAL_SCENES)
@@ -76,3 +77,22 @@ def test_elastogap_never_pulls():
         assert np.max(r[f"{gap}.f"]) <= 0.0
         apart = r[f"{gap}.contact"] == 0
         assert apart.any() and np.all(r[f"{gap}.f"][apart] == 0.0)
+
+
+def test_preload_statics_balance_every_body_by_msl_laws():
+    """The PreLoad reference's equilibria, checked element by element with MSL's own laws
+    (ElastoGap: -c depth in contact, 0 apart; Spring: c (s_rel - s_rel0)), not with the
+    matrices the reference solves; and its opening force is where outerContactA opens."""
+    for F in (0.0, 10.0, 29.0, 30.0, 150.0, -150.0):
+        q, _ = pre.static_state(F)
+        total = F * pre.E_SPOOL
+        for e in pre.ELEMENTS:
+            s_rel = float(np.dot(e.g, q) + e.g0)
+            f = (pre.SPRING["c"] * (s_rel - e.s_rel0) if e.kind == "spring"
+                 else -pre.CONTACT["c"] * max(e.s_rel0 - s_rel, 0.0) if e.kind == "gap" else 0.0)
+            total = total - f * np.array(e.g)
+        assert np.max(np.abs(total)) < 1e-9 * 150.0, (F, total)
+    f_open = pre.opening_force()
+    outer_a = pre.GAPS.index(0)  # ELEMENTS[0] is outerContactA
+    assert pre.static_state(0.999 * f_open)[1][outer_a] == 1
+    assert pre.static_state(1.001 * f_open)[1][outer_a] == 0
