@@ -133,5 +133,8 @@ SCENE_INDEX = {
     'translational_elastogap': ('msl_translational',
         'MSL Translational.Examples.ElastoGap: a mass on spring-dampers beside one '
         'between ElastoGaps that lift off'),
+    'translational_preload': ('msl_translational',
+        'MSL Translational.Examples.PreLoad: a spool held by two preloaded ElastoGap '
+        'stops until a slow sine force overcomes the preload'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

@@ -454,11 +454,24 @@ class _Master:
             d = self.derivative[d]
         return value
 
+    def _source_had_event(self, k: int) -> bool:
+        """Whether an FMU feeding chain `k` (the input or one of its derivatives) had an
+        event in the step just taken (cosim.c source_had_event)."""
+        while k >= 0:
+            inst = self.instances[self.couplings[k].source[0]]
+            if inst.event_at_start or math.isfinite(inst.event_in_step):
+                return True
+            k = self.derivative[k]
+        return False
+
     def _chain_defect(self, predicted: dict[int, float]) -> None:
         """The worst chained input's defect at the step's end over its allowance
-        (defect_tol relative to the value), and that chain's order."""
+        (defect_tol relative to the value), and that chain's order. A chain whose
+        source had an event in the step is left out (cosim.c chain_defect says why)."""
         self.defect, self.defect_order = 0.0, 1
         for k, p in predicted.items():
+            if self._source_had_event(k):
+                continue
             u = self._get(*self.couplings[k].target)
             ratio = abs(u - p) / (self.defect_tol * (1.0 + abs(u)))
             if ratio > self.defect:

@@ -20,6 +20,10 @@ written from MSL's documented equations). Where MSL joins three flanges at one p
   the brake grounded implicitly and once through a Fixed support.
 - ``translational_elastogap``: two masses between walls at +-2 m, one on spring-dampers,
   one on ElastoGaps that lift off for |s| < 0.5 m.
+- ``translational_preload``: a spool between two spring plates, a 20 kN/m spring
+  preloaded between them and four 1e6 N/m ElastoGap contacts: the spool stays put until
+  the 150 N, 0.01 Hz sine force passes the preload (29.4 N), then follows it along the
+  spring; held to the statics and quasi-static response (msl_preload_reference).
 """
 from __future__ import annotations
 
@@ -30,11 +34,13 @@ import numpy as np
 from components.sources.force import Force
 from components.sources.signals import Sine, Step
 from components.translational.brakes import Brake, SupportFriction
-from components.translational.elements import ElastoGap, Fixed, Spring, SpringDamper
+from components.translational.elements import Damper, ElastoGap, Fixed, Spring, SpringDamper
 from components.translational.masses import PEAK, Mass, MassWithStopAndFriction
+from components.translational.rigid import Junction, Rod
 
 from ..assembly import Assembly
 from ..result import Result
+from . import msl_preload_reference as pre
 from . import msl_translational_references as ref
 from .joined import _trapezoid_accuracy
 from .scene import Figure, Scene
@@ -373,6 +379,113 @@ def _elastogap_figures(result: Result, asm: Assembly) -> list[Figure]:
     return figures
 
 
+# --- PreLoad --------------------------------------------------------------------------
+def _preload() -> Assembly:
+    """MSL's PreLoad: where MSL connects three or four flanges at one point, Junctions
+    (a four-flange point is two); MSL's one fixedLe on three flanges is three Fixed."""
+    P = pre
+    asm = Assembly("translational_preload")
+    gap = dict(c=P.CONTACT["c"], d=P.CONTACT["d"])
+    asm.add("innerContactA", ElastoGap(**gap, s_rel0=P.INNER_REL0))
+    asm.add("innerContactB", ElastoGap(**gap, s_rel0=P.INNER_REL0))
+    asm.add("outerContactA", ElastoGap(**gap, s_rel0=P.OUTER_REL0))
+    asm.add("outerContactB", ElastoGap(**gap, s_rel0=P.OUTER_REL0))
+    asm.add("spool", Mass(m=P.SPOOL["m"], L=P.SPOOL["L"], s=P.SPOOL["s"], v=0.0))
+    asm.add("springPlateA", Mass(m=P.PLATE_A["m"], L=P.PLATE_A["L"], s=P.PLATE_A["s"], v=0.0))
+    asm.add("springPlateB", Mass(m=P.PLATE_B["m"], L=P.PLATE_B["L"], s=P.PLATE_B["s"], v=0.0))
+    asm.add("spring", Spring(c=P.SPRING["c"], s_rel0=P.SPRING["s_rel0"]))
+    asm.add("friction", Damper(d=P.FRICTION_D))
+    asm.add("housing", Rod(L=P.HOUSING_L))
+    for rod, length in (("rod1", P.ROD12_L), ("rod2", P.ROD12_L), ("rod3", P.ROD34_L),
+                        ("rod4", P.ROD34_L)):
+        asm.add(rod, Rod(L=length))
+    for fixed in ("fixedLe", "fixedLe2", "fixedLe3"):
+        asm.add(fixed, Fixed(s0=P.FIXED_S0))
+    asm.add("sineForce", Sine(amplitude=P.SINE["amplitude"], f=P.SINE["f"]))
+    asm.add("force", Force())
+    for j in ("jointA", "jointB", "jointFriction", "jointSpool", "jointSpool2"):
+        asm.add(j, Junction())
+    for a, b in (
+            # fixedLe: outerContactA, housing, friction
+            ("fixedLe.flange", "outerContactA.flange_a"),
+            ("fixedLe2.flange", "housing.flange_a"),
+            ("fixedLe3.flange", "friction.flange_a"),
+            ("outerContactA.flange_b", "springPlateA.flange_a"),
+            # springPlateA.flange_b = spring.flange_a = rod1.flange_a
+            ("springPlateA.flange_b", "jointA.flange_a"),
+            ("jointA.flange_b", "spring.flange_a"),
+            ("jointA.flange_c", "rod1.flange_a"),
+            ("rod1.flange_b", "innerContactA.flange_b"),
+            # spring.flange_b = springPlateB.flange_a = rod2.flange_b
+            ("springPlateB.flange_a", "jointB.flange_a"),
+            ("jointB.flange_b", "spring.flange_b"),
+            ("jointB.flange_c", "rod2.flange_b"),
+            ("rod2.flange_a", "innerContactB.flange_a"),
+            ("springPlateB.flange_b", "outerContactB.flange_a"),
+            ("outerContactB.flange_b", "housing.flange_b"),
+            # spool.flange_a = rod3.flange_b = rod4.flange_a = force.flange
+            ("spool.flange_a", "jointSpool.flange_a"),
+            ("jointSpool.flange_b", "rod3.flange_b"),
+            ("jointSpool.flange_c", "jointSpool2.flange_a"),
+            ("jointSpool2.flange_b", "rod4.flange_a"),
+            ("jointSpool2.flange_c", "force.flange"),
+            ("rod4.flange_b", "innerContactB.flange_b"),
+            # rod3.flange_a = innerContactA.flange_a = friction.flange_b
+            ("rod3.flange_a", "jointFriction.flange_a"),
+            ("jointFriction.flange_b", "innerContactA.flange_a"),
+            ("jointFriction.flange_c", "friction.flange_b"),
+            ("sineForce.y", "force.f")):
+        asm.connect(a, b)
+    return asm
+
+
+PRELOAD_TIMES = (1.0, 2.0, 25.0, 50.0, 75.0, 100.0)  # below the preload; the peaks and zeros
+
+
+def _preload_figures(result: Result, asm: Assembly) -> list[Figure]:
+    t = result["time"]
+    acc = solver_accuracy(result, 0.1)  # positions ~0.1 m
+    figures = []
+    q0, _ = pre.static_state(0.0)
+    for time in PRELOAD_TIMES:
+        if time > t[-1] + 1e-9:
+            continue
+        q, bound = pre.quasi_static(time)
+        k = int(np.argmin(np.abs(t - time)))
+        for j, body in enumerate(("spool", "springPlateA", "springPlateB")):
+            figures.append(Figure(
+                f"{body}_s_{time:g}", f"{body}.s at t = {time:g} s (F = "
+                f"{float(pre.force(time)):.3g} N) [m] vs the quasi-static response",
+                float(result[f"{body}.s"][k]), float(q[j]), acc + float(bound[j]),
+                source="closed form derived here: statics of MSL's PreLoad in its contact "
+                       "set, with the damping and inertia terms of the slow force"))
+    # the preload: at F = 0 the spool sits at its start value, the springs preloaded
+    figures.append(Figure("preload_spool_s", "spool.s of the preloaded state (F = 0) [m] vs "
+                          "MSL's start value spool.s.start", float(q0[0]), pre.SPOOL["s"],
+                          1e-12, source="statics (closed form) against MSL's design value"))
+    # the force at which the spool starts to move: outerContactA opens
+    f_open = pre.opening_force()
+    spring_preload = pre.SPRING["c"] * (pre.SPRING["s_rel0"] - (q0[2] - q0[1]
+                                                               - pre.PLATE_A["L"] / 2
+                                                               - pre.PLATE_B["L"] / 2))
+    figures.append(Figure("opening_force", "force that opens outerContactA [N] vs the spring's "
+                          "preload", f_open, spring_preload, 0.02 * spring_preload,
+                          source="closed form: the spring's preload; the contacts' "
+                                 "compliance (c_spring / c_contact) moves it by 2 %"))
+    contact = result["outerContactA.contact"]
+    opened = np.flatnonzero((contact[1:] < 0.5) & (contact[:-1] > 0.5))
+    w = 2 * math.pi * pre.SINE["f"]
+    t_open = math.asin(f_open / pre.SINE["amplitude"]) / w
+    measured = float(t[opened[0] + 1]) if len(opened) else math.nan
+    figures.append(Figure("outerContactA_opens", "first time outerContactA is open [s] "
+                          "(sampled) vs F(t) = the opening force", measured, t_open,
+                          (t[1] - t[0]) + 0.01,
+                          source="closed form: asin(F_open / amplitude) / w; accuracy: "
+                                 "the sampling interval, and 10 ms for the lag of the "
+                                 "closed contacts (d/c ~ 1.5 ms)"))
+    return figures
+
+
 MSL_TRANSLATIONAL_SCENES: dict[str, Scene] = {
     "translational_oscillator": Scene(
         "translational_oscillator", "MSL Translational.Examples.Oscillator: masses on springs "
@@ -399,4 +512,10 @@ MSL_TRANSLATIONAL_SCENES: dict[str, Scene] = {
         _elastogap, stop_time=5.0, step=1e-3, tolerance=1e-10, record=None,
         figures=_elastogap_figures, plot=["mass1.s", "mass2.s"], mode="monolithic",
         seed="MSL", reference="closed form (mass1); scipy from MSL's ElastoGap law (mass2)"),
+    "translational_preload": Scene(
+        "translational_preload", "MSL Translational.Examples.PreLoad: a spool held by two "
+        "preloaded ElastoGap stops until a slow sine force overcomes the preload",
+        _preload, stop_time=pre.STOP_TIME, step=0.1, tolerance=1e-8, record=None,
+        figures=_preload_figures, plot=["spool.s", "force.f"], mode="monolithic",
+        seed="MSL", reference="statics and quasi-static response of MSL's PreLoad"),
 }

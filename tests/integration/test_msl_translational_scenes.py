@@ -6,38 +6,35 @@ import pytest
 
 from assemblies.run import run_scene_full
 from assemblies.scenes import SCENES
+from assemblies.scenes import msl_preload_reference as pre
 from assemblies.scenes.msl_translational import MSL_TRANSLATIONAL_SCENES, friction_references
 
 NAMES = list(MSL_TRANSLATIONAL_SCENES)
 MODES = ("cosim", "me", "monolithic")
 _RUNS: dict = {}
+# PreLoad co-simulated: 24 FMUs with 1e6 N/m contacts on 10 g plates take ~2 s of CPU per
+# simulated second here, so the run stops just past the spool's break-away (3.14 s)
+SHORT = {("translational_preload", "cosim"): 3.5}
 
 
 def run(name, mode):
     if (name, mode) not in _RUNS:
-        _RUNS[name, mode] = run_scene_full(name, mode=mode, plot=False)
+        _RUNS[name, mode] = run_scene_full(name, mode=mode, plot=False,
+                                           stop_time=SHORT.get((name, mode)))
     return _RUNS[name, mode]
 
 
 def test_registered_with_references():
     assert set(NAMES) == {"translational_oscillator", "translational_friction",
-                          "translational_brake", "translational_elastogap"}
+                          "translational_brake", "translational_elastogap",
+                          "translational_preload"}
     for name in NAMES:
         assert SCENES[name].reference and "MSL Translational.Examples" in SCENES[name].description
 
 
-# stop2 of Friction hits its stop: an impact resets its speed to 0 inside a coupled
-# loop (spring - mass), and the engine's adaptive co-simulation cannot meet its
-# tolerance across that reset (it shrinks the step to 1e-14 s at t = 0.0606 s)
-IMPACT = pytest.mark.xfail(strict=True, reason="adaptive co-simulation across a velocity "
-                           "reset (an impact at a hard stop) fails in the engine")
-
-
 @pytest.mark.parametrize("mode", MODES)
 @pytest.mark.parametrize("name", NAMES)
-def test_every_figure_passes_in_every_mode(name, mode, request):
-    if (name, mode) == ("translational_friction", "cosim"):
-        request.applymarker(IMPACT)
+def test_every_figure_passes_in_every_mode(name, mode):
     r = run(name, mode)
     assert r.passed, r.table()
     assert len(r.result.figures) >= 5
@@ -80,3 +77,22 @@ def test_elastogap_never_pulls():
         assert np.max(r[f"{gap}.f"]) <= 0.0
         apart = r[f"{gap}.contact"] == 0
         assert apart.any() and np.all(r[f"{gap}.f"][apart] == 0.0)
+
+
+def test_preload_statics_balance_every_body_by_msl_laws():
+    """The PreLoad reference's equilibria, checked element by element with MSL's own laws
+    (ElastoGap: -c depth in contact, 0 apart; Spring: c (s_rel - s_rel0)), not with the
+    matrices the reference solves; and its opening force is where outerContactA opens."""
+    for F in (0.0, 10.0, 29.0, 30.0, 150.0, -150.0):
+        q, _ = pre.static_state(F)
+        total = F * pre.E_SPOOL
+        for e in pre.ELEMENTS:
+            s_rel = float(np.dot(e.g, q) + e.g0)
+            f = (pre.SPRING["c"] * (s_rel - e.s_rel0) if e.kind == "spring"
+                 else -pre.CONTACT["c"] * max(e.s_rel0 - s_rel, 0.0) if e.kind == "gap" else 0.0)
+            total = total - f * np.array(e.g)
+        assert np.max(np.abs(total)) < 1e-9 * 150.0, (F, total)
+    f_open = pre.opening_force()
+    outer_a = pre.GAPS.index(0)  # ELEMENTS[0] is outerContactA
+    assert pre.static_state(0.999 * f_open)[1][outer_a] == 1
+    assert pre.static_state(1.001 * f_open)[1][outer_a] == 0
