@@ -31,7 +31,11 @@ _REGISTERED = (
     "RodOnRollers", "RollingCoin", "TorqueFreeBody", "NutationDamperBody", "WobblingDisk",
     "Skate", "MassWithFriction", "Spring", "SpringDamper", "TorsionalSpring", "Motor", "Force",
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
-    "Constant", "Step", "Ramp", "Sine")
+    "Constant", "Step", "Ramp", "Sine",
+    "Inertia", "RotationalFixed", "IdealGear", "RotationalSpring", "RotationalDamper",
+    "RotationalSpringDamper", "Torque", "ConstantTorque", "QuadraticSpeedDependentTorque",
+    "RotationalSpeed", "RotationalPosition", "AngleSensor", "RotationalSpeedSensor",
+    "TorqueSensor", "RotationalPowerSensor")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 
