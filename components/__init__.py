@@ -35,7 +35,7 @@ _REGISTERED = (
     "Inertia", "RotationalFixed", "IdealGear", "RotationalSpring", "RotationalDamper",
     "RotationalSpringDamper", "Torque", "ConstantTorque", "QuadraticSpeedDependentTorque",
     "RotationalSpeed", "RotationalPosition", "AngleSensor", "RotationalSpeedSensor",
-    "TorqueSensor", "RotationalPowerSensor")
+    "TorqueSensor", "RotationalPowerSensor", "BearingFriction", "RotationalBrake", "Clutch")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

@@ -11,6 +11,9 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "BearingFriction": ".friction",
+    "Clutch": ".friction",
+    "RotationalBrake": ".friction",
     "IdealGear": ".rigid",
     "Inertia": ".rigid",
     "Motor": ".elements",
