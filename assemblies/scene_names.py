@@ -84,5 +84,8 @@ SCENE_INDEX = {
     'nutation_damper': ('bodies_seed',
         'seed 8.3.1: spun about its minor axis, a body with a viscous damper inside ends '
         'spinning about its major axis'),
+    'coupled_clutches': ('msl_rotational',
+        'MSL Rotational.Examples.CoupledClutches: four inertias, three clutches engaging '
+        'and releasing in turn (exact lock/break-away events)'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

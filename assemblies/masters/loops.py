@@ -160,7 +160,8 @@ def coupling_order(couplings, instances) -> list:
             loop = active[active.index(i):] + [i]
             path = " -> ".join(f"{'.'.join(couplings[j].source)}" for j in loop)
             raise AssemblyError(f"algebraic loop between direct-feedthrough outputs: {path}; "
-                                "the me and monolithic masters cannot solve loops yet")
+                                "the me coupling cannot solve loops yet (mode monolithic "
+                                "solves linear ones)")
         active.append(i)
         for j in needs[i]:
             visit(j)
