@@ -62,24 +62,23 @@ def mode_changes(result: Result, instance: str):
 
     An event's rows may show a mode the event iteration then corrects (a stopping
     clutch whose coupled neighbours' accelerations change with its own mode), so the
-    settled mode after an event is read from the first output row after it; events
-    less than 1e-9 s apart are one.
+    settled mode after an event is read from the first output row after it and
+    compared with the last row before it; events less than 1e-9 s apart are one.
     """
     ev = result.events.get(instance)
     if ev is None:
         return []
     t, mode, fn = (np.asarray(result[c]) for c in ("time", f"{instance}.mode", f"{instance}.fn"))
-    out, last, cluster = [], mode[0], -math.inf
+    out, cluster = [], -math.inf
     for te in np.asarray(ev["time"]):
         if te - cluster < 1e-9:
             continue
         cluster = te
-        after = np.searchsorted(t, te, side="right")
-        if after == len(t):
-            break
-        if mode[after] != last and fn[after] > 0:
+        before, after = np.searchsorted(t, te, side="left") - 1, np.searchsorted(t, te, side="right")
+        if after == len(t) or before < 0:
+            continue
+        if mode[after] != mode[before] and fn[after] > 0:
             out.append((float(te), int(mode[after])))
-        last = mode[after]
     return out
 
 
