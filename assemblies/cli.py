@@ -153,6 +153,11 @@ def _cmd_run(args) -> int:
     from assemblies.run import run_scene_full
     from assemblies.scenes import scene
     sc = scene(kwargs["name"]) if isinstance(kwargs["name"], str) else kwargs["name"]
+    if args.animate:  # checked before the run: a wrong file or scene answers at once
+        from dataclasses import replace
+        from assemblies.scenes.animate import animation_record, check_animation_file
+        check_animation_file(args.animate)
+        kwargs["name"] = sc = replace(sc, record=animation_record(sc))
     stop = kwargs["stop_time"] if kwargs["stop_time"] is not None else sc.stop_time
     progress = ProgressReport(stop, start_time=kwargs["start_time"] or 0.0)
     try:
@@ -162,6 +167,10 @@ def _cmd_run(args) -> int:
     print(run.table(verdict=False))
     written = [out / f"{run.name}.{kind}" for kind in ("csv", "png", "json")
                if kind != "png" or not args.no_plot]
+    if args.animate:
+        from assemblies.scenes.animate import animate
+        animate(run.result, run.result.assembly, args.animate, f"{run.name}: {sc.description}")
+        written.append(args.animate)
     print("wrote " + ", ".join(map(str, written))
           + (" (no plot: --no-plot)" if args.no_plot else ""))
     print(run.verdict())  # last, so that it is what a reader or a log tail sees
@@ -321,7 +330,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="co-simulation sweep (mode cosim only; default: jacobi)")
     r.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
                    help="order of the input extrapolation held over a step: 0 constant, "
-                        "1 linear, 2 quadratic (mode cosim only; default: 1 when adaptive, "
+                        "1 linear, 2 quadratic (mode cosim only; default: 2 when adaptive, "
                         "0 with --fixed-step)")
     steps = r.add_mutually_exclusive_group()
     steps.add_argument("--adaptive", type=float, nargs="?", const=1e-5, metavar="TOL",
@@ -348,6 +357,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--no-plot", action="store_true",
                    help="write the CSV and JSON only, no .png (and no matplotlib to load: "
                         "the quicker run for scripts)")
+    r.add_argument("--animate", metavar="FILE.gif|mp4",
+                   help="also render the scene's bodies in 3-D from their recorded attitude "
+                        "(to scale, with their paths and the time): .gif, or .mp4 with ffmpeg")
     r.set_defaults(fn=_cmd_run)
     x = sub.add_parser("export", help="export a scene as an SSP file and/or one FMU",
                        epilog=scene_list)

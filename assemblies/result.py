@@ -26,6 +26,16 @@ class Table:
         data = np.array(rows, dtype=object).reshape(len(rows), len(names))
         return cls({name: _column(list(data[:, i])) for i, name in enumerate(names)})
 
+    @classmethod
+    def from_array(cls, names: list[str], values: np.ndarray) -> "Table":
+        """A 2-D float array of the caller's, a column per name, each a view of it: no
+        value goes through Python (an engine run's event rows, where from_rows'
+        per-value conversion cost more than a short run's integration)."""
+        values = np.asarray(values, dtype=float).reshape(-1, len(names))
+        table = cls.__new__(cls)
+        table._columns = {name: values[:, i] for i, name in enumerate(names)}
+        return table
+
     @property
     def columns(self) -> list[str]:
         return list(self._columns)

@@ -48,18 +48,19 @@ class SceneRun:
                 "figures": [{"name": f.name, "description": f.description, "measured": f.measured,
                              "reference": f.reference, "error": f.error,
                              "accuracy": f.accuracy, "relative": f.relative, "bound": f.bound,
-                             "passed": f.passed} for f in self.figures]}
+                             "passed": f.passed, "source": f.source} for f in self.figures]}
 
     def table(self, verdict: bool = True) -> str:
         """The figures, each with its error, the error it may have (`accuracy`, absolute)
-        and pass/FAIL; the run's settings; and, with `verdict`, that as the last line."""
+        and pass/FAIL, its description and its reference's source; the run's settings; and, with
+        `verdict`, that as the last line."""
         lines = [f"{'figure':<12} {'measured':>16} {'reference':>16} {'error':>10} "
                  f"{'accuracy':>10}  {'pass':<4}  description"]
         for f in self.figures:
             bound = f"{f.bound:10.2e}" if math.isfinite(f.bound) else f"{'not stated':>10}"
             lines.append(f"{f.name:<12} {f.measured:>16.10g} {f.reference:>16.10g} "
                          f"{f.error:>10.2e} {bound}  {'pass' if f.passed else 'FAIL':<4}  "
-                         f"{f.description}")
+                         f"{f.description}; source: {f.source or 'not stated'}")
         s = self.result.settings
         if s.get("terminated"):
             lines.append(f"terminated by {s['terminated']['instance']} at t = "
@@ -118,7 +119,7 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     engine (``c``, default) or in the fmpy-driven Python masters (``fmpy``, the reference).
 
     Co-simulation by default controls its error: adaptive communication steps to
-    ``DEFAULT_COSIM['tol']`` with linear input extrapolation and events synchronised
+    ``DEFAULT_COSIM['tol']`` with quadratic input extrapolation and events synchronised
     across FMUs (`step` is then the output interval), and a scene of one FMU runs as a
     single FMU whose solver steps freely. ``adaptive=False`` asks for a fixed
     communication step `step`, ``adaptive=TOL`` for another tolerance; `extrapolation`

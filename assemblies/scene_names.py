@@ -30,6 +30,9 @@ SCENE_INDEX = {
         'seed 7.5: damped cantilever settling under a constant tip force'),
     'moving_table': ('table',
         'seed 9.6 ex. 1: block sliding on a table shaken as U sin(wt)'),
+    'still_table': ('table',
+        'seed 9.6 ex. 1 without the shaking: the same block on a still table slows '
+        'linearly and stops (the reference case moving_table is measured against)'),
     'conveyor': ('table',
         'seed 9.6 ex. 2: asymmetric shaking conveys the block at a steady speed'),
     'two_block_belt': ('joined',
@@ -53,10 +56,18 @@ SCENE_INDEX = {
     'stick_slip_smooth': ('friction_seed',
         'seed 9.2, Fig. 9.4: the smooth friction law Eq. 9.5 (eps = 1e-3, and 1e-4) '
         "against the exact stick-slip's t1 and t2"),
+    'resonance_eq_9_10': ('friction_seed',
+        'seed 9.5, Figs. 9.6 and 9.7 as the seed computes them: Eq. 9.10, mu '
+        "tanh(x'/0.001) (SpringBlock's tanh law with eps = 0.003), U = 0.4 and U = 1 from"
+        ' x(0) = 10'),
     'distinguished_limit': ('friction_seed',
         'seed 9.3: the block as two halves m/2 joined by a stiff spring K = 1e2, 1e3, 1e4'
         ' N/m, pulled as in 9.2 (exact Coulomb friction): the front half slips at t1/2 = '
         "4 s, before the rigid block's 8 s, whatever K"),
+    'limits_order': ('friction_seed',
+        'seed 9.3, the other order of the limits: K -> oo first (the rigid block under '
+        'Eq. 9.5, eps = 1e-3 and 1e-4) slips at ~8 s, eps -> 0 first (two halves, exact '
+        'Coulomb, K = 1e4 N/m) at 4 s'),
     'distinguished_limit_n4': ('friction_seed',
         'seed 9.3: the block as n = 4 masses m/4 joined by stiff springs K = 1e2, 1e3, '
         '1e4 N/m (exact Coulomb friction): the front mass slips earlier still, at t1/4 = '
@@ -84,6 +95,44 @@ SCENE_INDEX = {
     'nutation_damper': ('bodies_seed',
         'seed 8.3.1: spun about its minor axis, a body with a viscous damper inside ends '
         'spinning about its major axis'),
+    'cone_incline': ('bodies_exercises',
+        'seed 8.6 ex. 2: a uniform cone rolls without slip on an incline, rocking about '
+        'its fixed apex'),
+    'wobble_exercise': ('bodies_exercises',
+        'seed 8.6 ex. 3: the disk from phi = 1.0, theta = 1.3, psi = -0.4 spun about its '
+        'axis, nudged: it wobbles at twice its spin'),
+    'axle_inertia': ('bodies_exercises',
+        "seed 8.6 ex. 4: a body's inertia matrix recovered from its periods on six axles "
+        '(section 8.5 turned round)'),
+    'string_body': ('bodies_exercises',
+        'seed 8.6 ex. 5: a box hung from a point on its surface by a damped elastic '
+        'string: energy falls, not to zero; vertical H about the support kept'),
+    'sliding_rod': ('sliding',
+        'seed 9.8: a rod sliding and spinning on a table (Eqs. 9.14-9.16, uniform '
+        'reaction) stops translating and rotating at the same instant'),
+    'sliding_disk': ('sliding',
+        'seed 9.8: a disk sliding and spinning on a table under a uniform pressure, its '
+        'friction integrals by quadrature in the model, stops translating and rotating at'
+        ' the same instant'),
+    'sliding_disk_parabolic': ('sliding',
+        'seed 9.8: the disk of sliding_disk under a parabolic pressure p ~ 1 - r^2/R^2: '
+        'it too stops translating and rotating at once, its speed vanishing faster (the '
+        'ratio tends to 0)'),
+    'burridge_knopoff': ('burridge_knopoff',
+        'issue 30: Burridge-Knopoff chain, C&L velocity-weakening friction, exact stick-'
+        'slip'),
+    'translational_oscillator': ('msl_translational',
+        'MSL Translational.Examples.Oscillator: masses on springs driven at resonance, '
+        'undamped and damped'),
+    'translational_friction': ('msl_translational',
+        'MSL Translational.Examples.Friction: Stribeck friction with stick/slip under a '
+        'sine force, and a mass thrown against its hard stop'),
+    'translational_brake': ('msl_translational',
+        'MSL Translational.Examples.Brake: a sliding mass braked to rest by a normal '
+        'force stepped on at 0.1 s'),
+    'translational_elastogap': ('msl_translational',
+        'MSL Translational.Examples.ElastoGap: a mass on spring-dampers beside one '
+        'between ElastoGaps that lift off'),
     'coupled_clutches': ('msl_rotational',
         'MSL Rotational.Examples.CoupledClutches: four inertias, three clutches engaging '
         'and releasing in turn (exact lock/break-away events)'),

@@ -7,7 +7,7 @@ the same scene (the assembly joined into one FMU, run by the engine: ``--mode
 monolithic``) at the same error. Each scene is run through ``run_scene`` (the call a
 user makes; FMUs already built by an untimed first call) in
 
-- ``cosim``: the default scheme (adaptive, linear extrapolation, events synchronised)
+- ``cosim``: the default scheme (adaptive, quadratic extrapolation, events synchronised)
   at communication-step tolerances COSIM_TOLERANCES;
 - ``me``: the Model Exchange FMUs in one integrator at solver tolerances TOLERANCES;
 - ``composite``: the composite FMU at the same solver tolerances.

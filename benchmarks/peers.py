@@ -13,7 +13,7 @@ writes) is run by
   fmpy's own SSP runner drops that factor, so its belt is wrong at every step);
 - ``ours fixed`` the compiled engine at a fixed communication step, as
   ``--fixed-step`` runs it (Jacobi, zero-order hold: the peers' scheme);
-- ``ours``       the compiled engine's default co-simulation (adaptive steps, linear
+- ``ours``       the compiled engine's default co-simulation (adaptive steps, quadratic
   extrapolation, events synchronised), its knob the step tolerance ``tol``.
 
 The error of a run is the largest deviation of the compared outputs (the bodies'
@@ -544,7 +544,7 @@ def results_section(data: dict) -> list[str]:
            "`benchmarks/peers.json`. The same FMI 2 CS FMUs of ours, wired by the scene's SSP, "
            "run by libcosim (libcosimpy), Ecos (ecospy), a plain Python master over fmpy's FMI "
            "calls, our engine at fixed steps (`--fixed-step`: Jacobi, zero-order hold, the "
-           "peers' scheme) and our default co-simulation (adaptive, linear extrapolation, "
+           "peers' scheme) and our default co-simulation (adaptive, quadratic extrapolation, "
            "events synchronised). The peers' FMUs and ours at fixed steps solve at the "
            f"FMUs' default tolerance {data['fmu_tolerance']:g} (what an FMI 2 tool gets); ours "
            "adaptive too where that reaches the target, else at the scene's tolerance (what "

@@ -41,6 +41,7 @@ class Case:
     methods: dict[str, Callable]
     fmu_path: object = None      # the FMU, for the build-time report
     component: object = None
+    masters: object = None       # the assembly's Masters, where the public calls run it
 
 
 def _our_methods(fmu: SingleFmu | None, masters: Masters | None, times, smooth: bool):
@@ -107,7 +108,8 @@ def stick_slip(smooth_law: bool = False) -> Case:
     p = dict(block.values)
     times = output_times("stick_slip")
     fmu = SingleFmu(composite(asm), "block.x")
-    methods = _our_methods(fmu, Masters(asm, "block.x"), times, smooth=smooth_law)
+    masters = Masters(asm, "block.x")
+    methods = _our_methods(fmu, masters, times, smooth=smooth_law)
     if smooth_law:
         run = partial(baselines.smooth_block, p["m"], p["k"], p["g"], p["mu_k"], p["mu_s"],
                       p["eps"], speed, times)
@@ -126,7 +128,7 @@ def stick_slip(smooth_law: bool = False) -> Case:
         kind = "piecewise analytic (seed 9.2)"
     _scipy(methods, run, None if smooth_law else jit_run)
     name = "stick_slip_smooth" if smooth_law else "stick_slip"
-    return Case(name, times, reference, kind, methods, fmu.path, fmu.component)
+    return Case(name, times, reference, kind, methods, fmu.path, fmu.component, masters)
 
 
 def beam(n_modes: int, quick: bool = False) -> Case:
@@ -163,12 +165,13 @@ def axle_pendulum() -> Case:
     theta0 = body.starts["theta"]
     times = output_times("axle_pendulum")
     fmu = SingleFmu(body, "theta")
-    methods = _our_methods(fmu, Masters(asm, "body.theta"), times, smooth=True)
+    masters = Masters(asm, "body.theta")
+    methods = _our_methods(fmu, masters, times, smooth=True)
     axle_run = partial(baselines.axle, p["m"], p["g"], J_n, r, n, theta0, times)
     _scipy(methods, axle_run, partial(axle_run, jit=True))
     reference = references.pendulum(math.sqrt(rho / J_n), theta_eq, theta0)(times)
     return Case("axle_pendulum", times, reference, "exact pendulum, Jacobi sn (scipy ellipj)",
-                methods, fmu.path, body)
+                methods, fmu.path, body, masters)
 
 
 def coin_rolling() -> Case:
@@ -187,7 +190,7 @@ def coin_rolling() -> Case:
     # hand-written RHS above agrees with it to round-off: tests/integration/test_bench.py)
     reference = masters.monolithic(times, 1e-13)[0]
     return Case("coin_rolling", times, reference, "monolithic DOP853 at rtol 1e-13",
-                methods, fmu.path, coin)
+                methods, fmu.path, coin, masters)
 
 
 def moving_table() -> Case:

@@ -1,6 +1,7 @@
 """The public single-component call against the C limit and the best scipy (issue 27).
 
     python -m benchmarks.single_limit [--rounds 5] [--scenes stick_slip ...] [--json PATH]
+    python -m benchmarks.single_limit --split [--scenes ...]   # where the public call's time goes
 
 For stick_slip, axle_pendulum and coin_rolling: the compiled engine as a user calls it
 (`engine_me`, `engine_monolithic`: the public call is the faster of the two at each
@@ -122,14 +123,67 @@ def table(rows) -> str:
     return "\n".join(lines)
 
 
+SPLIT_TOLERANCES = (1e-4, 1e-7, 1e-10)  # about errors 1e-3, 1e-6, 1e-9 on these scenes
+SPLIT_REPEATS = 200
+
+
+def split(scene: str, log=print) -> list[dict]:
+    """Where the public call's time goes, per tolerance: its CPU time; the wall time of
+    its C call alone (settings["engine_s"]) and so the Python around it; the public call
+    with event_subsamples=0 (step ends only, as c_limit locates events); and c_limit.
+    Round-robin, SPLIT_REPEATS runs each, the 20th percentile of each (a loaded machine's
+    upper tail is other work)."""
+    from assemblies.engine import me as engine
+    case = SCENES[scene]()
+    asm, column = case.masters.assembly, case.masters.column
+    times = case.times
+    rows = []
+    for tol in SPLIT_TOLERANCES:
+        def public(subsamples=engine.EVENT_SUBSAMPLES):
+            return engine.simulate_monolithic(asm, times[-1], times[1] - times[0], tol,
+                                              record=[column], event_subsamples=subsamples)
+        sides = {"public": public, "public_sub0": lambda: public(0),
+                 "c_limit": lambda: case.methods["c_limit"](tol, False)}
+        for fn in sides.values():
+            fn()
+        spent = {name: [] for name in sides}
+        c_call = []
+        for _ in range(SPLIT_REPEATS):
+            for name, fn in sides.items():
+                started = time.process_time()
+                result = fn()
+                spent[name].append(time.process_time() - started)
+                if name == "public":
+                    c_call.append(result.settings["engine_s"])
+        q = {name: statistics.quantiles(v, n=5)[0] for name, v in spent.items()}
+        c = statistics.quantiles(c_call, n=5)[0]
+        row = {"scene": scene, "tolerance": tol, "public_cpu_s": q["public"], "c_call_s": c,
+               "python_s": q["public"] - c, "public_sub0_cpu_s": q["public_sub0"],
+               "c_limit_cpu_s": q["c_limit"], "public/c_limit": q["public"] / q["c_limit"],
+               "public_sub0/c_limit": q["public_sub0"] / q["c_limit"],
+               "python/c_limit": (q["public"] - c) / q["c_limit"]}
+        rows.append(row)
+        log(f"  {scene} {tol:g}: public {q['public'] * 1e6:.0f} us (C call {c * 1e6:.0f}, "
+            f"Python {(q['public'] - c) * 1e6:.0f}), event_subsamples=0 "
+            f"{q['public_sub0'] * 1e6:.0f}, c_limit {q['c_limit'] * 1e6:.0f}: "
+            f"{row['public/c_limit']:.2f}x, {row['public_sub0/c_limit']:.2f}x")
+    return rows
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--scenes", nargs="+", default=list(SCENE_NAMES), choices=SCENE_NAMES)
     ap.add_argument("--json", type=Path, default=Path(__file__).with_name("single_limit.json"))
+    ap.add_argument("--split", action="store_true",
+                    help="where the public call's time goes (C call, Python, event sampling)")
     args = ap.parse_args(argv)
     if args.rounds < 1:
         ap.error("--rounds must be at least 1")
+    if args.split:
+        rows = [r for scene in args.scenes for r in split(scene)]
+        args.json.with_name("single_split.json").write_text(json.dumps(rows, indent=1))
+        return
     rows = []
     for scene in args.scenes:
         rows += measure(scene, args.rounds)

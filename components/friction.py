@@ -40,3 +40,26 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
     e.jump(speed, base + v_new)
     e.jump(mode, ca.if_else(ca.logic_or(stopped, q == 0),
                             ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
+
+
+def hard_stops(e, *, position: str, speed: str, low, high, mode: str = "mode") -> None:
+    """Add MSL's hard stops (MassWithStopAndFriction) to the jumps of `coulomb_modes`.
+
+    Call it after `coulomb_modes` on the same `speed` and `mode`. The state `position`
+    may not pass `low` or `high`: sliding into a stop is an event that puts it exactly
+    on the stop at rest and stuck (MSL's ``reinit(s, ...); reinit(v, 0)``), and a
+    contact stuck at a stop may break free only away from it (MSL's startForward needs
+    ``s < smax - L/2``), however hard it is pushed into it: the stop's reaction is then
+    part of the sticking force, as in MSL.
+    """
+    q, s = getattr(e.q, mode), getattr(e.x, position)
+    # each indicator watches only the stop the contact slides towards: one stuck at a
+    # stop would otherwise sit on an indicator of exactly zero
+    e.indicator(ca.if_else(q == 1, high - s, 1), "sliding forward: distance to the upper stop")
+    e.indicator(ca.if_else(q == -1, s - low, 1), "sliding backward: distance to the lower stop")
+    q_new, v_new = e.jumps[mode], e.jumps[speed]
+    blocked = ca.logic_or(ca.logic_and(s >= high, q_new == 1),
+                          ca.logic_and(s <= low, q_new == -1))
+    e.jump(position, ca.fmin(ca.fmax(s, low), high))  # an event lands a hair past the stop
+    e.jump(speed, ca.if_else(blocked, 0, v_new))
+    e.jump(mode, ca.if_else(blocked, 0, q_new))

@@ -27,6 +27,7 @@ UNITS: dict[str, dict[str, int]] = {
     "W": {"kg": 1, "m": 2, "s": -3},
     "J/s": {"kg": 1, "m": 2, "s": -3},  # der(W) of an energy state
     "N.m2": {"kg": 1, "m": 3, "s": -2},
+    "s/m": {"m": -1, "s": 1},  # MassWithStopAndFriction.fexp: the Stribeck decay
 }
 
 

@@ -43,6 +43,34 @@ def needed_inputs(fmus: dict, couplings, record, dynamics: bool = True) -> dict[
     return need
 
 
+def indicator_couplings(fmus: dict, couplings) -> dict[str, list[int]]:
+    """Per instance with event indicators, the indices (in `couplings`' order) of the
+    couplings its indicators depend on, directly or through the outputs they feed:
+    what event location sets to look at that instance alone (eng_me_spec.indicator_start).
+    A walk back from the instance's inputs, so a chain costs its neighbours, not itself
+    again per block."""
+    into: dict[tuple[str, str], list[int]] = {}
+    for k, c in enumerate(couplings):
+        into.setdefault(tuple(c.target), []).append(k)
+    out = {}
+    for name, fmu in fmus.items():
+        if not fmu.n_event_indicators:
+            continue
+        seen, used = set(), set()
+        pending = [(name, inp) for inp in fmu.indicators_depend]
+        while pending:
+            target = pending.pop()
+            if target in seen:
+                continue
+            seen.add(target)
+            for k in into.get(target, ()):
+                used.add(k)
+                source, var = couplings[k].source
+                pending += [(source, inp) for inp in inputs_behind(fmus[source], var)]
+        out[name] = sorted(used)
+    return out
+
+
 def continuous_couplings(fmus: dict, couplings, record) -> list[bool]:
     """For each of `couplings`, in their order: whether the evaluation between events
     needs it (module doc)."""

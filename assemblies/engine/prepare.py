@@ -395,7 +395,8 @@ def assembly_recipe(assembly, *parts) -> str | None:
 # followed through imports: the closure of these modules is the whole package, and
 # reading it would cost a cached run 15 ms
 _ASSEMBLIES = Path(__file__).resolve().parent.parent
-_JOINING_CODE = [_ASSEMBLIES / "masters" / "monolithic.py", _ASSEMBLIES / "assembly.py",
+_JOINING_CODE = [_ASSEMBLIES / "masters" / "monolithic.py",
+                 _ASSEMBLIES / "masters" / "composite_code.py", _ASSEMBLIES / "assembly.py",
                  _ASSEMBLIES / "causality.py"]
 
 

@@ -22,6 +22,14 @@ by what the estimate says, at least by 0.9 (halving regardless wastes steps wher
 the error is close to the noise floor), and the step after a rejection does not
 grow (Hairer's rule against reject/accept cycles).
 
+After each accepted estimate, COAST_STEPS steps of the half step it found good are
+taken without one (``coast``): step doubling costs three doSteps to advance two half
+steps, so on a scene whose steps stay about even (a table shaken at one frequency)
+adaptivity would cost 1.5x fixed steps of the same length; with the run of unjudged
+steps, (3 + 4) / (2 + 4) = 1.17x. An event in a step, a start event moved back, or a
+chain defect over its allowance (known after every step, at no cost) ends the run;
+the defect also rejects the step.
+
 This is the compiled engine's controller (``judge`` in assemblies/engine/c/cosim.c).
 """
 from __future__ import annotations
@@ -29,6 +37,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+COAST_STEPS = 4  # unjudged steps after an accepted estimate (module doc)
 
 
 class StepController:
@@ -88,4 +98,4 @@ class StepController:
         return ok, min(self.h_max, h * factor)
 
 
-__all__ = ["StepController"]
+__all__ = ["COAST_STEPS", "StepController"]

@@ -66,6 +66,7 @@ class JoinedModel:
     owner_of_indicator: list[str]
     open_inputs: list[tuple[str, str]]   # (instance, input) in u order
     terminate: list[tuple[int, str, str]]  # (index in q, instance, message)
+    couplings: tuple = ()  # the assembly's resolved couplings (source -> target, gain)
 
 
 def join(assembly: Assembly) -> JoinedModel:
@@ -131,7 +132,7 @@ def join(assembly: Assembly) -> JoinedModel:
         u0=np.array(u0, dtype=float),
         p0=np.concatenate([[v.start for v in m.parameters] for m in members.values()] + [[]]),
         members=members, outputs=outputs, owner_of_indicator=owners,
-        open_inputs=open_inputs, terminate=terminate)
+        open_inputs=open_inputs, terminate=terminate, couplings=tuple(couplings))
 
 
 def _resolve_couplings(assembly, members, tables, feeds) -> dict:
@@ -406,6 +407,12 @@ class Composite(Component):
 
     joined: JoinedModel
     open_ports: tuple = ()  # (port name in the composite, instance, port)
+
+    def vectorised_functions(self, model) -> dict:
+        # a large assembly: one function per member kind, mapped over the members, so
+        # that the C grows with the kinds, not with the flattened expression
+        from .composite_code import member_functions, worth_mapping
+        return member_functions(self.joined, model) if worth_mapping(model) else {}
 
     def equations(self, e):
         m = self.joined

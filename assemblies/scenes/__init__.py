@@ -23,7 +23,10 @@ from .scene import Figure, Scene
 FAMILIES = {"friction": "FRICTION_SCENES", "axle": "AXLE_SCENES", "coin": "COIN_SCENES",
             "beam": "BEAM_SCENES", "table": "TABLE_SCENES", "joined": "JOINED_SCENES",
             "speed_control": "SPEED_CONTROL_SCENES", "friction_seed": "SEED_FRICTION_SCENES",
-            "bodies_seed": "SEED_BODY_SCENES", "msl_rotational": "MSL_ROTATIONAL_SCENES"}
+            "bodies_seed": "SEED_BODY_SCENES", "bodies_exercises": "EXERCISE_SCENES",
+            "sliding": "SLIDING_SCENES", "burridge_knopoff": "BURRIDGE_KNOPOFF_SCENES",
+            "msl_translational": "MSL_TRANSLATIONAL_SCENES",
+            "msl_rotational": "MSL_ROTATIONAL_SCENES"}
 
 
 def family(module: str) -> dict[str, Scene]:

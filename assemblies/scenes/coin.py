@@ -39,9 +39,11 @@ def _conservation_figures(result: Result, asm: Assembly) -> list[Figure]:
     speed = asm.component("coin").values["R"] * float(np.abs(result["coin.psi_dot"]).max())
     # conserved exactly by the equations: what is left is the solver's error, accumulated
     return [Figure("E_drift", "largest |E - E(0)| / |E(0)| (no dissipation: 0)",
-                   _drift(result["coin.E"]), 0.0, solver_accuracy(result, 1.0, DRIFT)),
+                   _drift(result["coin.E"]), 0.0, solver_accuracy(result, 1.0, DRIFT),
+                   source="conservation law (exact: 0)"),
             Figure("v_C_max", "largest |velocity of the contact point| [m/s] (no slip: 0)",
-                   slip, 0.0, solver_accuracy(result, speed, DRIFT))]
+                   slip, 0.0, solver_accuracy(result, speed, DRIFT),
+                   source="rolling constraint (kinematics: 0)")]
 
 
 # --- coin_rolling: any start given with --param coin.NAME=VALUE ---------------
@@ -78,10 +80,12 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
         # figures fail, saying so
         return [Figure("v_crit", "critical speed [m/s] from the lean frequency: undefined, "
                        "the rolling speed R |psi'| is not above the critical speed sqrt(g R / 3)",
-                       math.nan, math.sqrt(g * R / 3)),
+                       math.nan, math.sqrt(g * R / 3),
+                       source="seed 6 (critical speed sqrt(g R / 3)), measured through our linearisation"),
                 Figure("lean_max", "largest |lean| / start lean: the linear lean grows without "
                        "bound at or below the critical speed (reference inf)",
-                       float(np.abs(lean).max()) / abs(lean[0]), math.inf),
+                       float(np.abs(lean).max()) / abs(lean[0]), math.inf,
+                       source="closed form (linearised lean about the upright, derived here; not the seed's)"),
                 *_conservation_figures(result, asm)]
     period = period_from_crossings(result["time"], lean - lean.mean(), -result["coin.theta_dot"])
     frequency = 2 * math.pi / period
@@ -94,9 +98,11 @@ def _coin_upright_figures(result: Result, asm: Assembly) -> list[Figure]:
     # k W^2 / (k W^2 - b) (5.8 at 1.1 x critical): relative error ~ that x lean_max^2
     linear = k * spin**2 / stiffness * (lean_max * abs(lean[0])) ** 2
     return [Figure("v_crit", "critical speed [m/s] from the lean frequency vs sqrt(g R / 3)",
-                   measured, math.sqrt(g * R / 3), linear, relative=True),
+                   measured, math.sqrt(g * R / 3), linear, relative=True,
+                   source="seed 6 (critical speed sqrt(g R / 3)), measured through our linearisation"),
             Figure("lean_max", lean_text,
-                   float(np.abs(lean).max()) / abs(lean[0]), lean_max, linear, relative=True),
+                   float(np.abs(lean).max()) / abs(lean[0]), lean_max, linear, relative=True,
+                   source="closed form (linearised lean about the upright, derived here; not the seed's)"),
             *_conservation_figures(result, asm)]
 
 
@@ -131,10 +137,12 @@ def _coin_circle_figures(result: Result, asm: Assembly) -> list[Figure]:
     # an exact steady motion, neutrally stable: the solver's error accumulates along it
     return [Figure("lean_drift", "largest |theta - theta(0)| [rad] (steady: 0)",
                    _drift(result["coin.theta"], relative=False), 0.0,
-                   solver_accuracy(result, s["theta"], DRIFT)),
+                   solver_accuracy(result, s["theta"], DRIFT),
+                   source="steady motion (derived here from the coin's equations; not the seed's numbers)"),
             Figure("r_contact", "radius of the contact path [m] vs the steady-motion relation",
                    fitted_circle_radius(result["coin.x_C"], result["coin.y_C"]), radius,
-                   solver_accuracy(result, radius, DRIFT)),
+                   solver_accuracy(result, radius, DRIFT),
+                   source="closed form (steady-motion contact circle, derived here; not the seed's)"),
             *_conservation_figures(result, asm)]
 
 
@@ -171,14 +179,18 @@ def _torque_free_flip_figures(result: Result, asm: Assembly) -> list[Figure]:
     # extreme where w_z = 0, and then energy and |H| give back w_y = -w_y(0) exactly
     return [Figure("growth", "departure rate from intermediate-axis spin [1/s] vs linearised",
                    measured, lam, (10 * xi0 / W) ** 2 + interpolation
-                   + solver_accuracy(result), relative=True),
+                   + solver_accuracy(result), relative=True,
+                   source="closed form (linearised intermediate-axis growth rate, textbook; seed 8.3 states instability)"),
             Figure("H_drift", "largest relative change of |H|", _drift(result["body.H"]), 0.0,
-                   solver_accuracy(result, 1.0, DRIFT)),
+                   solver_accuracy(result, 1.0, DRIFT),
+                   source="conservation law (exact: 0)"),
             Figure("T_drift", "largest relative change of the kinetic energy",
-                   _drift(result["body.T"]), 0.0, solver_accuracy(result, 1.0, DRIFT)),
+                   _drift(result["body.T"]), 0.0, solver_accuracy(result, 1.0, DRIFT),
+                   source="conservation law (exact: 0)"),
             Figure("flipped", "smallest w_y / w_y(0) vs -1 (energy and |H| where w_z = 0)",
                    float(result["body.w_y"].min() / W), -1.0,
-                   solver_accuracy(result, 1.0, DRIFT))]
+                   solver_accuracy(result, 1.0, DRIFT),
+                   source="conservation of energy and |H| (exact flip)")]
 
 
 # --- skate: seed 5.5 ----------------------------------------------------------
@@ -227,12 +239,15 @@ def _skate_figures(result: Result, asm: Assembly) -> list[Figure]:
                    float(result["skate.theta"][-1]), settled,
                    skate_heading_to_go(u0, s["omega"], p["m"], p["J"], p["L"],
                                        float(result["time"][-1]))
-                   + solver_accuracy(result, settled, DRIFT)),
+                   + solver_accuracy(result, settled, DRIFT),
+                   source="closed form (settled heading from seed 5.5's equations, integrated by hand here)"),
             Figure("E_drift", "largest relative change of the energy", _drift(result["skate.E"]),
-                   0.0, solver_accuracy(result, 1.0, DRIFT)),
+                   0.0, solver_accuracy(result, 1.0, DRIFT),
+                   source="conservation law (exact: 0)"),
             Figure("constraint", "largest |Eq. 5.19 residual| [m/s] (0)",
                    float(np.abs(result["skate.constraint"]).max()), 0.0,
-                   solver_accuracy(result, speed, DRIFT))]
+                   solver_accuracy(result, speed, DRIFT),
+                   source="seed Eq. 5.19 (knife-edge constraint: 0)")]
 
 
 def _record(instance: str, names: list[str]) -> list[str]:

@@ -45,7 +45,8 @@ def _stick_slip_figures(result: Result, asm: Assembly) -> list[Figure]:
     allowed = (0.0, 0.0, 0.0) if law == "coulomb" else _smooth_law_allowance(law, p, speed)
     what = "" if law == "coulomb" else f" ({law} law, eps = {p['eps']:g}: vs exact Coulomb)"
     first = Figure("t1", f"first slip time [s]{what}", slip[0], exact[0],
-                   allowed[0] + solver_accuracy(result, exact[0]))
+                   allowed[0] + solver_accuracy(result, exact[0]),
+                   source="seed 9.2, Eq. 9.4 (t1 = mu_s m g/(k v))")
     if law == "tanh":
         # Eq. 9.7 has no stiction: its limit is Coulomb friction with mu_s = mu_k, whose
         # slide only touches rest (tangentially) and never sticks again. The law's block
@@ -56,12 +57,15 @@ def _stick_slip_figures(result: Result, asm: Assembly) -> list[Figure]:
         return [first, Figure("rests", "times the block comes to rest (x' = 0) after the "
                               "first slip (Eq. 9.7 has no stiction: none, unlike Coulomb's "
                               f"re-stick at t2 = {exact[1]:.4f} s)",
-                              _rests(result, asm, slip[0]), 0, 0.0)]
+                              _rests(result, asm, slip[0]), 0, 0.0,
+                              source="seed 9.2 (Eq. 9.7 has no stiction: no rest)")]
     return [first,
             Figure("t2", f"first re-stick time [s]{what}", stick[0], exact[1],
-                   allowed[1] + solver_accuracy(result, exact[1])),
+                   allowed[1] + solver_accuracy(result, exact[1]),
+                   source="closed form (re-stick of the seed's Eq. 9.4 block, derived here)"),
             Figure("x(t2)", f"position at re-stick [m]{what}", stick[1], exact[2],
-                   allowed[2] + solver_accuracy(result, exact[2]))]
+                   allowed[2] + solver_accuracy(result, exact[2]),
+                   source="closed form (re-stick of the seed's Eq. 9.4 block, derived here)")]
 
 
 def _rests(result: Result, asm: Assembly, after: float, end: str = "driver") -> float:
@@ -173,14 +177,17 @@ def _friction_damping_figures(result: Result, asm: Assembly) -> list[Figure]:
     for n, (t_ref, x_ref) in enumerate(reference):
         t, x = measured[n] if n < len(measured) else (math.nan, math.nan)
         figures.append(Figure(f"A{n}", f"turning point {n} [m]{what}", x, x_ref,
-                              allowed[n][1] + solver_accuracy(result, x_ref)))
+                              allowed[n][1] + solver_accuracy(result, x_ref),
+                              source="seed 9.4 (turning points fall by 2 mu m g/k each half period)"))
         if n:
             figures.append(Figure(f"t_A{n}", f"time of turning point {n} [s]{what}", t, t_ref,
-                                  allowed[n][0] + solver_accuracy(result, t_ref)))
+                                  allowed[n][0] + solver_accuracy(result, t_ref),
+                                  source="seed 9.4 (a half period pi/w0 per swing)"))
     x_end = reference[-1][1]
     figures.append(Figure("x_end", f"position at the stop time [m]{what}",
                           result["block.x"][-1], x_end,
-                          allowed[-1][1] + creep + solver_accuracy(result, x_end)))
+                          allowed[-1][1] + creep + solver_accuracy(result, x_end),
+                          source="seed 9.4 (rest at the last turning point)"))
     return figures
 
 

@@ -370,6 +370,52 @@ def half_period_turning_points(m, k, g, mu, U, x0, t_end):
         points.append((t, (-1) ** j * sign * a))
 
 
+def eq_9_10(U: float, x0: float, v0: float, t, mu: float = 0.6, scale: float = 1e-3):
+    """(x, x') at the times t of seed Eq. 9.10 as printed,
+    x'' = -x + U sin t - mu tanh(x' / 0.001), by scipy's Radau (exact Jacobian, rtol
+    1e-12): an independent integration of the seed's equation, for the scenes that run
+    it through SpringBlock's tanh law."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(tt, y):
+        return [y[1], -y[0] + U * math.sin(tt) - mu * math.tanh(y[1] / scale)]
+
+    def jac(tt, y):
+        # sech^2 as 1 - tanh^2: cosh overflows beyond |x'| ~ 0.7
+        return [[0.0, 1.0], [-1.0, -mu / scale * (1 - math.tanh(y[1] / scale) ** 2)]]
+    t = np.asarray(t, dtype=float)
+    sol = solve_ivp(rhs, (0.0, float(t[-1])), [x0, v0], method="Radau", jac=jac, t_eval=t,
+                    rtol=1e-12, atol=1e-14)
+    return sol.y[0], sol.y[1]
+
+
+def eq_9_5_gross_slip(m, k, g, mu_k, mu_s, v, eps, t_end) -> tuple[float, float]:
+    """(t1, t2): where x' of the seed 9.2 block under Eq. 9.5, pulled from rest at speed
+    v, first rises through the law's peak speed u* eps and then falls back through it;
+    scipy's Radau (exact Jacobian, rtol 1e-12) with its own event location, written from
+    the equation (m x'' = k (v t - x) - mu(x'/eps) m g), not from the library's models.
+    NaN where the run to t_end has fewer crossings."""
+    from scipy.integrate import solve_ivp
+    u_star = smooth_law_peak(mu_k, mu_s)[0]
+
+    def rhs(t, y):
+        return [y[1], (k * (v * t - y[0])) / m
+                - g * float(smooth_friction_coefficient(y[1] / eps, mu_k, mu_s))]
+
+    def jac(t, y):
+        u = y[1] / eps
+        slope = (3 * mu_k * (1 - math.tanh(3 * u) ** 2)
+                 + (mu_s - mu_k) * (1 - u * u) * math.exp(0.5 - u * u / 2)) / eps
+        return [[0.0, 1.0], [-k / m, -g * slope]]
+
+    def level(t, y):
+        return y[1] - u_star * eps
+    sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0], method="Radau", jac=jac, events=level,
+                    rtol=1e-12, atol=1e-15)
+    found = list(sol.t_events[0][:2]) + [math.nan, math.nan]
+    return float(found[0]), float(found[1])
+
+
 @dataclass
 class Phase:
     """One phase of the driven block: from time t on, in friction mode (-1 sliding
@@ -501,7 +547,7 @@ def slide_ends(phases: list[Phase]) -> list[Phase]:
 
 
 __all__ = ["LAW_BAND", "DrivenCoulombBlock", "Phase", "StickSlipCycle", "chain_first_slip",
-           "creep_speed", "damped_first_slip", "damped_stick_slip", "half_period_turning_points",
+           "creep_speed", "damped_first_slip", "damped_stick_slip", "eq_9_10", "eq_9_5_gross_slip", "half_period_turning_points",
            "perturbation_decay_rate", "resonance_growth_rate", "resonance_threshold",
            "richardson_bound", "sliding_perturbation", "slide_ends",
            "smooth_friction_coefficient", "smooth_law_peak", "smooth_slip_bracket",

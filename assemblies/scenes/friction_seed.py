@@ -14,6 +14,7 @@ fail under it.
 """
 from __future__ import annotations
 
+import functools
 import math
 from types import SimpleNamespace
 
@@ -27,8 +28,9 @@ from components.translational.elements import MassWithFriction, Spring
 
 from ..assembly import Assembly
 from ..result import Result
-from .friction_references import (DrivenCoulombBlock, chain_first_slip, damped_first_slip,
-                                  damped_stick_slip,
+from .friction_references import (LAW_BAND, DrivenCoulombBlock, chain_first_slip,
+                                  damped_first_slip, damped_stick_slip, eq_9_10,
+                                  eq_9_5_gross_slip, smooth_mode_slip_bracket,
                                   half_period_turning_points, perturbation_decay_rate,
                                   resonance_growth_rate, richardson_bound, slide_ends,
                                   sliding_perturbation, smooth_law_peak, smooth_slip_bracket,
@@ -40,6 +42,8 @@ from .references import stick_slip_first_cycle
 from .scene import Figure, Scene
 
 SEED = dict(m=1.0, k=1.0, g=1.0)          # chapter 9's units
+DRIFT_910 = 1e4  # a smooth motion's error over ~1e5 steps, as scene.DRIFT
+RATE_910_FROM = 40.0  # [s] the growth's fit starts once the motion is near its lock
 DRAG = dict(mu_k=0.3, mu_s=0.4)           # Eq. 9.4
 SPEED = 0.05                              # Eq. 9.4's driven end [m/s]
 
@@ -115,6 +119,9 @@ def _nth(items, n, width=2):
 # --- 9.5 resonance ---------------------------------------------------------------------
 RESONANCE = dict(mu_k=0.6, mu_s=0.6, x=10.0)  # mu_s = mu_k = mu, the seed's x(0) = 10
 PHASE_LOCK = 1e-3  # [rad] turning points within this of w0 t = j pi count as locked
+EXACT_DRIVEN = ("exact event-driven Coulomb solution (closed form per phase, derived here from "
+                "seed Eqs. 9.8-9.9)")
+HALF_PERIOD_LAW = "seed 9.5's half-period law (each slide lasts pi / w0)"
 
 
 def _driven_block(asm: Assembly, drive: str, name: str, U: float, x0: float) -> None:
@@ -160,16 +167,19 @@ def _half_period_figures(result, p, instance) -> list[Figure]:
     for j, (t_j, x_j) in enumerate(law, start=1):
         t, x = _nth(run, j - 1)
         figures += [Figure(f"A{j}", f"{instance}: turning point {j} [m], one more half period "
-                           "of the law", x, x_j, p["acc"](max(abs(x_j), abs(p["x0"])))),
+                           "of the law", x, x_j, p["acc"](max(abs(x_j), abs(p["x0"]))),
+                           source=HALF_PERIOD_LAW),
                     Figure(f"t_A{j}", f"{instance}: its time, j pi / w0 [s]", t, t_j,
-                           p["acc"](t_j))]
+                           p["acc"](t_j),
+                           source=HALF_PERIOD_LAW)]
     return figures
 
 
 def _event_count_figure(result, instance, phases) -> Figure:
     return Figure("turns", f"{instance}: slides that ended in the run vs the exact "
                   "event-driven solution", float(len(turning_points(result, instance))),
-                  float(len(slide_ends(phases))), 0.0)
+                  float(len(slide_ends(phases))), 0.0,
+                  source=EXACT_DRIVEN)
 
 
 def _locked_window(phases, w0: float):
@@ -185,36 +195,73 @@ def _locked_window(phases, w0: float):
     return late[i:]
 
 
+def _lock_truncation(p: dict, window) -> float:
+    """How far a turning point of the exact motion may lie from the seed's half-period
+    law's straight line in |x| at the law's times j pi / w0, over a window whose turning
+    points all lie within PHASE_LOCK of w0 t = j pi.
+
+    Sliding at resonance, x + s mu m g/k = E(t) cos(w0 t) + D sin(w0 t) with
+    E = C - (U w0 / 2) t; a slide that starts at rest at phase delta from j pi ends at
+    phase delta' from (j + 1) pi with |x + s mu m g/k| = E / cos(delta) + (U / 2) sin(delta)
+    at each end (E tan(delta) is carried over). Against the law (delta = 0: the change
+    U pi / 2 - 2 mu m g/k exactly) a slide therefore adds E' (sec(delta') - 1) -
+    E (sec(delta) - 1) + (U / 2)((sin(delta') - delta') - (sin(delta) - delta)): the first
+    terms telescope over the window, the last add up. With |delta| <= PHASE_LOCK = Phi
+    and E <= the largest |x| + mu m g/k, each point is off the line by at most
+    2 E (sec(Phi) - 1) + n U (Phi - sin(Phi)) after n slides.
+    """
+    phi = PHASE_LOCK
+    if not window:
+        return math.nan
+    E = max(abs(ph.x) for ph in window) + p["mu_k"] * p["m"] * p["g"] / p["k"]
+    return 2 * E * (1 / math.cos(phi) - 1) + len(window) * p["U"] * (phi - math.sin(phi))
+
+
+def _law_times(points, w0: float):
+    """The seed's half-period law's time j pi / w0 of each turning point (t, x): its
+    nearest multiple (a fit against the measured times would fold the lock's phase
+    drift, ~1e-3 rad here, into the slope)."""
+    return [math.pi / w0 * round(w0 * t / math.pi) for t, _ in points]
+
+
 def _resonance_growth_figures(result: Result, asm: Assembly) -> list[Figure]:
     p = _driven(result, asm, "drive", "block")
     _, phases = _exact(p, float(result["time"][-1]))
     figures = _half_period_figures(result, p, "block")
     w0 = math.sqrt(p["k"] / p["m"])
+    # the fit takes the run's turning points where the exact motion is phase-locked only:
+    # the law holds there to the lock's truncation bound, not before
     window = _locked_window(phases, w0)
     t_lock = window[0].t if window else math.inf
     rate = resonance_growth_rate(p["m"], p["k"], p["g"], p["mu_k"], p["U"])
     run = [(t, abs(x)) for t, x in turning_points(result, "block")
            if t > t_lock - math.pi / (2 * w0)]
-    slope, spread = _fit_slope(*zip(*run)) if run else (math.nan, math.nan)
-    exact_slope, _ = _fit_slope([ph.t for ph in window], [abs(ph.x) for ph in window])
-    # The law is exact for a locked motion, but the lock is only approached (the phase
-    # error falls like |x|^-4 here): over the window the exact solution's own fit misses
-    # the law by what is left of it; the run may add the solver's error at each point
-    share = spread * p["acc"](max((abs(ph.x) for ph in window), default=1.0))
+    slope, spread = (_fit_slope(_law_times(run, w0), [x for _, x in run]) if run
+                     else (math.nan, math.nan))
+    exact_slope, _ = _fit_slope(_law_times([(ph.t, ph.x) for ph in window], w0),
+                                [abs(ph.x) for ph in window])
+    # each fitted point errs by the solver's accuracy at the window's largest |x| and
+    # sits off the law's line by at most the lock's truncation: the slope by the sum of
+    # the fit's |weights| times that
+    solver = p["acc"](max((abs(ph.x) for ph in window), default=1.0))
     turns = slide_ends(phases)
     last_run = _nth(turning_points(result, "block"), len(turns) - 1)
     # a run stopped before the first slide ends has no last turning point: NaN, a FAIL
     last_x, last_t = (turns[-1].x, turns[-1].t) if turns else (math.nan, math.nan)
     return figures + [
-        Figure("rate", f"growth of |x| at turning points [m/s], fitted from the lock "
-               f"(t >= {t_lock:.1f} s), vs (U pi - 4 mu m g/k) w0/(2 pi); accuracy: the exact "
-               "solution's misfit there plus the solver's", slope, rate,
-               abs(exact_slope - rate) + share),
+        Figure("rate", f"growth of |x| at turning points [m/s], fitted at t = j pi / w0 over "
+               f"the phase-locked window (t >= {t_lock:.1f} s, within {PHASE_LOCK:g} rad), vs "
+               "(U pi - 4 mu m g/k) w0/(2 pi); accuracy: the lock's truncation bound plus the "
+               "solver's", slope, rate, spread * (_lock_truncation(p, window) + solver),
+               source="seed 9.5 (the growth rate, Fig. 9.7)"),
         Figure("rate_exact", "the same fit vs the exact event-driven solution's over the same "
-               "turning points [m/s]", slope, exact_slope, share),
+               "turning points [m/s]", slope, exact_slope, spread * solver,
+               source=EXACT_DRIVEN),
         Figure("A_last", "last turning point [m] vs the exact event-driven solution",
-               last_run[1], last_x, p["acc"](max(abs(last_x), abs(p["x0"])))),
-        Figure("t_last", "its time [s]", last_run[0], last_t, p["acc"](last_t)),
+               last_run[1], last_x, p["acc"](max(abs(last_x), abs(p["x0"]))),
+               source=EXACT_DRIVEN),
+        Figure("t_last", "its time [s]", last_run[0], last_t, p["acc"](last_t),
+               source=EXACT_DRIVEN),
         _event_count_figure(result, "block", phases)]
 
 
@@ -230,14 +277,16 @@ def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
     figures.append(Figure("amp_last", "largest |x| over the last forcing period [m] vs the "
                           "exact solution at the same times",
                           float(np.abs(result["block.x"][last]).max()),
-                          float(np.abs(exact.position(phases, t[last])).max()), p["acc"](p["x0"])))
+                          float(np.abs(exact.position(phases, t[last])).max()), p["acc"](p["x0"]),
+                          source=EXACT_DRIVEN))
     # in phase from x(0) = -10: every slide lasts a half period, the seed's rate is exact
     q = _driven(result, asm, "drive_locked", "locked")
     law = half_period_turning_points(q["m"], q["k"], q["g"], q["mu_k"], q["U"], q["x0"],
                                      float(t[-1]))[1:]
     run = turning_points(result, "locked")
     # a run stopped before the law's first turning point has nothing to hold: NaN, a FAIL
-    slope, spread = (_fit_slope(*zip(*[(tt, abs(x)) for tt, x in run[:len(law)]]))
+    # in phase the law is exact: the fit at its times errs by the solver's error alone
+    slope, spread = (_fit_slope([tt for tt, _ in law], [abs(x) for _, x in run[:len(law)]])
                      if law and len(run) >= len(law) else (math.nan, math.nan))
     t_end, x_end = law[-1] if law else (math.nan, math.nan)
     t_run, x_run = _nth(run, len(law) - 1)
@@ -245,10 +294,100 @@ def _resonance_below_figures(result: Result, asm: Assembly) -> list[Figure]:
         Figure("rate_locked", f"locked: change of |x| over its {len(law)} turning points "
                "[m/s] vs (U pi - 4 mu m g/k) w0/(2 pi) < 0: no resonance", slope,
                resonance_growth_rate(q["m"], q["k"], q["g"], q["mu_k"], q["U"]),
-               spread * q["acc"](q["x0"])),
+               spread * q["acc"](q["x0"]),
+               source="seed 9.5 (growth rate (U pi - 4 mu m g/k) w0/(2 pi))"),
         Figure("locked_A_end", "locked: last turning point of the half-period law [m]",
-               x_run, x_end, q["acc"](q["x0"])),
-        Figure("locked_t_end", "locked: its time [s]", t_run, t_end, q["acc"](t_end))]
+               x_run, x_end, q["acc"](q["x0"]),
+               source=HALF_PERIOD_LAW),
+        Figure("locked_t_end", "locked: its time [s]", t_run, t_end, q["acc"](t_end),
+               source=HALF_PERIOD_LAW)]
+
+
+# --- 9.5 Eq. 9.10 as the seed runs it ---------------------------------------------------
+EQ_9_10_EPS = 3e-3  # SpringBlock's tanh law is mu tanh(3 v / eps): Eq. 9.10's tanh(v / 0.001)
+EQ_9_10 = ("independent integration of seed Eq. 9.10 as printed (scipy Radau, rtol 1e-12, "
+           "written from the equation)")
+
+
+def _resonance_eq_9_10() -> Assembly:
+    asm = Assembly("resonance_eq_9_10")
+    for name, U in (("below", 0.4), ("growth", 1.0)):
+        asm.add(f"{name}_drive", SineMotion(U=U, omega=1.0))
+        asm.add(name, SpringBlock(**SEED, **{**RESONANCE, "x": 10.0}, friction="tanh",
+                                  eps=EQ_9_10_EPS))
+        asm.connect(f"{name}_drive.flange", f"{name}.flange_a")
+    return asm
+
+
+@functools.lru_cache(maxsize=8)
+def _eq_9_5(m, k, g, mu_k, mu_s, v, eps, t_end):
+    """Eq. 9.5's gross-slip instants, once per block and run length (scipy: ~1 s)."""
+    return eq_9_5_gross_slip(m, k, g, mu_k, mu_s, v, eps, t_end)
+
+
+@functools.lru_cache(maxsize=8)
+def _eq_9_10(U, x0, mu, scale, t):
+    """The reference, once per drive, start, law and output grid (scipy takes seconds)."""
+    return eq_9_10(U, x0, 0.0, np.array(t), mu=mu, scale=scale)
+
+
+def _turns_of(t, x, v, a):
+    """(t, x) at each zero of x' on the cubic Hermite interpolant of (v, a)."""
+    spline = CubicHermiteSpline(t, v, a)
+    roots = spline.roots(extrapolate=False)
+    roots = roots[(roots > t[0]) & (roots < t[-1])]
+    return roots, CubicHermiteSpline(t, x, v)(roots)
+
+
+def _resonance_eq_9_10_figures(result: Result, asm: Assembly) -> list[Figure]:
+    t = result["time"]
+    figures, refs = [], {}
+    for name in ("below", "growth"):
+        b, U = asm.component(name).values, asm.component(f"{name}_drive").values["U"]
+        x0 = asm.component(name).starts["x"]
+        refs[name] = x_ref, _ = _eq_9_10(U, x0, b["mu_k"], b["eps"] / 3, tuple(t))
+        # a smooth law's motion is continuous in its start and the solver keeps its
+        # local error at tol: accumulated over the run like a conservation figure's
+        figures.append(Figure(f"{name}_x", f"U = {U:g}: largest |x - x_Eq.9.10| over the run "
+                              "[m]", float(np.abs(result[f"{name}.x"] - x_ref).max()), 0.0,
+                              _accuracy(result, x0, DRIFT_910, drive_omega=1.0),
+                              source=EQ_9_10))
+    # Fig. 9.6's claim: no resonant growth at U = 0.4, |x| over the last forcing period
+    # far below its start (the reference's, at the same output times)
+    last = t >= t[-1] - 2 * math.pi
+    x0 = asm.component("below").starts["x"]
+    figures.append(Figure("below_amp", "U = 0.4: largest |x| over the last forcing period "
+                          "[m] (no growth: far below x(0) = 10)",
+                          float(np.abs(result["below.x"][last]).max()),
+                          float(np.abs(refs["below"][0][last]).max()),
+                          _accuracy(result, x0, DRIFT_910, drive_omega=1.0), source=EQ_9_10))
+    # growth: the seed's resonant rate from the run's turning points once locked, as in
+    # resonance_growth; the tanh law departs from Coulomb's only while |x'| < 20 x 0.001
+    # (beyond, |tanh - sign| < 1e-17), which each reversal crosses in at most
+    # 2 V / a_min, a_min = min |x| - U - mu: the friction impulse, and with it the
+    # amplitude, is off by at most 2 mu g that / w0 a half period, the slope by w0 / pi
+    # times that; the lock's truncation (its phase read off the reference) adds the rest
+    b, U = asm.component("growth").values, asm.component("growth_drive").values["U"]
+    late = t >= RATE_910_FROM
+    turn_t, turn_x = _turns_of(t[late], result["growth.x"][late], result["growth.v"][late],
+                               result["growth.a"][late])
+    j = np.round(turn_t / math.pi)
+    slope, spread = _fit_slope(j * math.pi, np.abs(turn_x)) if len(j) else (math.nan, math.nan)
+    x_ref, v_ref = refs["growth"]
+    a_ref = -x_ref + U * np.sin(t) - b["mu_k"] * np.tanh(3 * v_ref / b["eps"])
+    ref_t, ref_x = _turns_of(t[late], x_ref[late], v_ref[late], a_ref[late])
+    phi = float(np.abs(ref_t - math.pi * np.round(ref_t / math.pi)).max()) if len(ref_t) else math.nan
+    a_min = float(np.abs(ref_x).min()) - U - b["mu_k"] if len(ref_x) else math.nan
+    band = 2 * b["mu_k"] * b["g"] * 2 * (LAW_BAND * b["eps"] / 3) / a_min
+    lock = 2 * (float(np.abs(ref_x).max()) + b["mu_k"]) * (1 / math.cos(phi) - 1) \
+        + len(ref_t) * U * (phi - math.sin(phi))
+    figures.append(Figure("rate", f"U = {U:g}: growth of |x| at its turning points after "
+                          f"t = {RATE_910_FROM:g} s [m/s] vs (U pi - 4 mu) / (2 pi)", slope,
+                          resonance_growth_rate(b["m"], b["k"], b["g"], b["mu_k"], U),
+                          band / math.pi + spread * lock + spread * _accuracy(result, 10.0),
+                          source="seed 9.5 (the rate is Coulomb's; Eq. 9.10 smooths it within "
+                          "the band bound)"))
+    return figures
 
 
 # --- 9.3 the distinguished limit -------------------------------------------------------
@@ -305,11 +444,13 @@ def _distinguished_figures(n: int):
             first = min(firsts) if math.isfinite(min(firsts)) else math.nan
             out += [Figure(f"t_slip_{name}", f"K = {K:g} N/m: first slip in the block of {n} "
                            "masses [s] vs mu_s m g / (n k v)", first, t_ref,
-                           _accuracy(result, t_ref) + _held_input_delay(result)),
+                           _accuracy(result, t_ref) + _held_input_delay(result),
+                           source="closed form (seed 9.3: only the front mass is loaded before it slips)"),
                     Figure(f"first_{name}", f"K = {K:g} N/m: which mass slips first (1: the "
                            "front, the one pulled)",
                            float(firsts.index(min(firsts)) + 1) if first == first else math.nan,
-                           1.0, 0.0)]
+                           1.0, 0.0,
+                           source="seed 9.3 (the front slips first)")]
         if n == 2:
             out.append(_rear_slip_figure(result, asm))
         return out
@@ -330,7 +471,8 @@ def _rear_slip_figure(result: Result, asm: Assembly) -> Figure:
                   "slip [s] vs its K -> oo limit (the front's staircase); accuracy: K/10 -> K "
                   "convergence, order 1/2", rear[stiff], limit,
                   richardson_bound(rear[softer], rear[stiff], stiff / softer, REAR_ORDER)
-                  + _accuracy(result, limit))
+                  + _accuracy(result, limit),
+                  source="closed form (the K -> oo staircase limit, derived here from seed 9.3)")
 
 
 def _distinguished_record(n: int) -> list[str]:
@@ -387,7 +529,8 @@ def _steady_sliding_figures(result: Result, asm: Assembly) -> list[Figure]:
     p, _, _ = _eta(result, asm, "steady")
     lag = p["v"] * t[-1] - result["steady.x"][-1]
     figures = [Figure("lag", "steady block: v t - x at the end [m] vs x_ss = mu_k m g / k",
-                      float(lag), p["x_ss"], _accuracy(result, p["v"] * t[-1]))]
+                      float(lag), p["x_ss"], _accuracy(result, p["v"] * t[-1]),
+                      source="seed 9.2 (x_ss = mu_k m g / k)")]
     # neutral: the deviation keeps its amplitude (a centre, seed 9.2)
     p, eta, deta = _eta(result, asm, "neutral")
     w0 = math.sqrt(p["k"] / p["m"])
@@ -397,7 +540,8 @@ def _steady_sliding_figures(result: Result, asm: Assembly) -> list[Figure]:
     figures.append(Figure("eta_neutral", "neutral (no damping): |eta| at its last extreme [m] "
                           "vs its start: no decay, no growth", float(abs(values[-1])) if len(values)
                           else math.nan, abs(p["eta0"]),
-                          _accuracy(result, scale) + hermite * abs(p["eta0"])))
+                          _accuracy(result, scale) + hermite * abs(p["eta0"]),
+                          source="seed 9.2 (a neutral centre without damping)"))
     # damped: the extremes fall as exp(-d t / 2m)
     p, eta, deta = _eta(result, asm, "damped")
     times, values = _extremes(t, eta, deta)
@@ -405,15 +549,18 @@ def _steady_sliding_figures(result: Result, asm: Assembly) -> list[Figure]:
     smallest = float(np.abs(values).min()) if len(values) else math.nan
     figures.append(Figure("decay_rate", "damped: decay rate of |eta| at its extremes [1/s] vs "
                           "d / 2m", -rate, perturbation_decay_rate(p["m"], p["d"]),
-                          spread * (_accuracy(result, scale) / smallest + hermite)))
+                          spread * (_accuracy(result, scale) / smallest + hermite),
+                          source="closed form d/2m (seed 9.2's damped perturbation)"))
     eta_end = float(sliding_perturbation(t[-1], p["m"], p["k"], p["d"], p["eta0"], p["deta0"])[0])
     figures.append(Figure("eta_damped_end", "damped: eta at the end [m] vs the closed form",
-                          float(eta[-1]), eta_end, _accuracy(result, scale)))
+                          float(eta[-1]), eta_end, _accuracy(result, scale),
+                          source="closed form (damped perturbation of steady sliding, derived here)"))
     # the closed forms hold while every block slides forward (friction -mu_k m g)
     off = sum(int(np.count_nonzero(result[f"{n}.mode"] != 1))
               for n in ("steady", "neutral", "damped"))
     figures.append(Figure("not_sliding", "output points where a block is not sliding forward "
-                          "(the closed forms' premise)", float(off), 0.0, 0.0))
+                          "(the closed forms' premise)", float(off), 0.0, 0.0,
+                          source="premise of the closed forms"))
     return figures
 
 
@@ -442,19 +589,25 @@ def _stick_slip_damped_figures(result: Result, asm: Assembly) -> list[Figure]:
     t2, x2 = _nth(sticks, 0)
     figures = [
         Figure("t1", "light: first slip [s] vs (mu_s m g - d v) / (k v)",
-               slips[0] if slips else math.nan, cycle.t1, _accuracy(result, cycle.t1)),
+               slips[0] if slips else math.nan, cycle.t1, _accuracy(result, cycle.t1),
+               source="closed form (mu_s m g - d v)/(k v) (seed 9.2 with a dashpot, derived here)"),
         Figure("t2", "light: first re-stick [s], the damped slide's x' = 0", t2, cycle.t2,
-               _accuracy(result, cycle.t2)),
+               _accuracy(result, cycle.t2),
+               source="closed form (damped slide's first x' = 0, derived here from seed 9.2)"),
         Figure("x(t2)", "light: position at the re-stick [m]", x2, cycle.x2,
-               _accuracy(result, cycle.x2)),
+               _accuracy(result, cycle.x2),
+               source="closed form (damped slide, derived here from seed 9.2)"),
         Figure("period", "light: second slip - first slip [s] vs x(t2) / v",
                slips[1] - slips[0] if len(slips) > 1 else math.nan, cycle.period,
-               2 * _accuracy(result, T)),
+               2 * _accuracy(result, T),
+               source="closed form x(t2)/v (derived here from seed 9.2)"),
         Figure("slips", "light: slips in the run (stick-slip persists)", float(len(slips)),
-               float(count), 0.0),
+               float(count), 0.0,
+               source="closed form (periodic cycle, derived here from seed 9.2)"),
         Figure("t_last_slip", "light: the last slip [s] vs t1 + (slips - 1) period",
                slips[-1] if slips else math.nan, cycle.t1 + (count - 1) * cycle.period,
-               _accuracy(result, T)),
+               _accuracy(result, T),
+               source="closed form (periodic cycle, derived here from seed 9.2)"),
     ]
     # heavy: slips once and slides on, eta a damped free oscillation from the slip
     b, v = asm.component("heavy").values, asm.component("heavy_end").values["v"]
@@ -464,10 +617,62 @@ def _stick_slip_damped_figures(result: Result, asm: Assembly) -> list[Figure]:
     lag = v * T - result["heavy.x"][-1]
     figures += [
         Figure("heavy_slips", "heavy: slips in the run (one: then it slides steadily)",
-               float(len(slip_times(result, "heavy"))), 1.0, 0.0),
+               float(len(slip_times(result, "heavy"))), 1.0, 0.0,
+               source="closed form (derived here: d = 0.5 > 0.2907 slides on after one slip)"),
         Figure("heavy_lag", "heavy: v t - x at the end [m] vs x_ss - eta(t), eta the damped "
-               "slide from the slip", float(lag), x_ss - eta_end, _accuracy(result, v * T)),
+               "slide from the slip", float(lag), x_ss - eta_end, _accuracy(result, v * T),
+               source="closed form (damped slide from the slip, derived here from seed 9.2)"),
     ]
+    return figures
+
+
+# --- 9.3 the two orders of the limits ---------------------------------------------------
+ORDER_K = 1e4  # [N/m] the stiffest chain of distinguished_limit
+
+
+def _limits_order() -> Assembly:
+    """K -> oo first: the rigid block (a chain with K = oo is one mass) under Eq. 9.5 at
+    eps = 1e-3 and 1e-4, eps -> 0 after; eps -> 0 first: the two halves with exact
+    Coulomb friction, K = 1e4 N/m."""
+    asm = Assembly("limits_order")
+    for name, eps in (("rigid3", SMOOTH_EPS), ("rigid4", FINER_EPS)):
+        asm.add(f"{name}_end", ConstantSpeed(v=SPEED))
+        asm.add(name, SpringBlock(**SEED, **DRAG, friction="smooth", eps=eps))
+        asm.connect(f"{name}_end.flange", f"{name}.flange_a")
+    _chain(asm, _prefix(ORDER_K), 2, ORDER_K)
+    return asm
+
+
+def _limits_order_figures(result: Result, asm: Assembly) -> list[Figure]:
+    figures = []
+    for name in ("rigid3", "rigid4"):
+        b, v = asm.component(name).values, asm.component(f"{name}_end").values["v"]
+        lo, hi = smooth_mode_slip_bracket("smooth", b["m"], b["k"], b["g"], b["mu_k"],
+                                          b["mu_s"], v, b["eps"])
+        slips = slip_times(result, name)
+        figures.append(Figure(f"t_{name}", f"K -> oo first, eps = {b['eps']:g}: the rigid "
+                              f"block's first slip [s] within [{lo:.4f}, {hi:.4f}] (-> "
+                              "mu_s m g / (k v) = 8 as eps -> 0)",
+                              slips[0] if slips else math.nan, (lo + hi) / 2,
+                              (hi - lo) / 2 + _accuracy(result, hi),
+                              source="bounds derived here from seed Eq. 9.5 (the rigid "
+                              "block's order of the limits, seed 9.3)"))
+    c, pre = _chain_numbers(asm, ORDER_K), _prefix(ORDER_K)
+    t_ref = chain_first_slip(2, c["m"], c["k"], c["g"], c["mu_s"], c["v"])
+    slips = slip_times(result, f"{pre}mass1")
+    figures.append(Figure("t_halves", f"eps -> 0 first (exact Coulomb), K = {ORDER_K:g} N/m: "
+                          "the front half's first slip [s] vs mu_s m g / (2 k v) = 4",
+                          slips[0] if slips else math.nan, t_ref,
+                          _accuracy(result, t_ref) + _held_input_delay(result),
+                          source="closed form (seed 9.3: only the front half is loaded)"))
+    # the two orders disagree by the factor n = 2 the seed points to: sliding starts earlier
+    rigid = figures[1].measured
+    figures.append(Figure("order_gap", "rigid block's slip (eps = 1e-4) / the halves' "
+                          "(orders of the limits differ: 2 as eps -> 0)",
+                          rigid / figures[2].measured, 2.0,
+                          2.0 * (figures[1].bound + abs(figures[1].reference - 8.0))
+                          / figures[2].reference + 2.0 * figures[2].bound / figures[2].reference,
+                          source="seed 9.3 (the distinguished limit: n times earlier)"))
     return figures
 
 
@@ -530,12 +735,24 @@ def _stick_slip_smooth_figures(result: Result, asm: Assembly) -> list[Figure]:
                  if eps > eps_fine else math.nan)
         accuracy = abs(exact[i] - limit[i]) + study + _accuracy(result, exact[i])
         figures.append(Figure(name, f"eps = {eps:g}: {what} [s] vs the exact Coulomb time",
-                              coarse[i], exact[i], accuracy))
+                              coarse[i], exact[i], accuracy,
+                              source="seed Eq. 9.4 exact Coulomb times (closed form), with Eq. 9.5's peak deficit and an eps -> eps/10 study"))
+    # the same instants against Eq. 9.5 itself, integrated independently: what the ten
+    # printed digits of t1 and t2 are good for (the solver's accuracy at located events)
+    law = _eq_9_5(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, eps,
+                  float(result["time"][-1]))
+    for i, name in ((0, "t1_law"), (1, "t2_law")):
+        figures.append(Figure(name, f"eps = {eps:g}: the same instant [s] vs Eq. 9.5 "
+                              "integrated independently", coarse[i], law[i],
+                              _accuracy(result, law[i]),
+                              source="independent integration of seed Eq. 9.5 (scipy Radau, "
+                              "rtol 1e-12, written from the equation)"))
     for name, start, e in (("smooth", coarse[0], eps), ("finer", fine[0], eps_fine)):
         lo, hi = smooth_slip_bracket(b["m"], b["k"], b["g"], b["mu_k"], b["mu_s"], v, e)
         figures.append(Figure(f"t1_bounds_{name}", f"eps = {e:g}: first slip [s] within "
                               f"[{lo:.4f}, {hi:.4f}], bounds derived from the law",
-                              start, (lo + hi) / 2, (hi - lo) / 2 + _accuracy(result, hi)))
+                              start, (lo + hi) / 2, (hi - lo) / 2 + _accuracy(result, hi),
+                              source="bounds derived here from seed Eq. 9.5"))
     return figures
 
 
@@ -570,6 +787,16 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         figures=_stick_slip_smooth_figures, picture=plot_smooth, seed="9.2, Fig. 9.4",
         reference="exact t1 = 8, t2 = 12.0689, within Eq. 9.5's peak deficit (μmax = 0.39868) "
                   "and an ε → ε/10 convergence bound; rigorous bounds on the slip onset"),
+    "resonance_eq_9_10": Scene(
+        "resonance_eq_9_10", "seed 9.5, Figs. 9.6 and 9.7 as the seed computes them: Eq. 9.10, "
+        "mu tanh(x'/0.001) (SpringBlock's tanh law with eps = 0.003), U = 0.4 and U = 1 from "
+        "x(0) = 10",
+        _resonance_eq_9_10, stop_time=80.0, step=0.05, tolerance=1e-10,
+        record=_blocks_record(("below", "growth"), ("x", "v", "a")),
+        figures=_resonance_eq_9_10_figures, plot=["below.x", "growth.x"], mode="me",
+        seed="9.5, Eq. 9.10, Figs. 9.6–9.7",
+        reference="x(t) of Eq. 9.10 integrated independently (scipy Radau); U = 1 grows at "
+                  "(Uπ − 4μ)/(2π) = 0.118 within the tanh band's bound"),
     "distinguished_limit": Scene(
         "distinguished_limit", "seed 9.3: the block as two halves m/2 joined by a stiff "
         "spring K = 1e2, 1e3, 1e4 N/m, pulled as in 9.2 (exact Coulomb friction): the front "
@@ -580,6 +807,17 @@ SEED_FRICTION_SCENES: dict[str, Scene] = {
         reference="first slip μs m g/(n k v) = 4 for K = 1e2, 1e3, 1e4 (closed form: only the "
                   "front half is loaded before it slips); the rear half's slip → 6 as K → ∞ "
                   "(staircase limit, K^-1/2 convergence)"),
+    "limits_order": Scene(
+        "limits_order", "seed 9.3, the other order of the limits: K -> oo first (the rigid "
+        "block under Eq. 9.5, eps = 1e-3 and 1e-4) slips at ~8 s, eps -> 0 first (two halves, "
+        "exact Coulomb, K = 1e4 N/m) at 4 s",
+        _limits_order, stop_time=9.0, step=0.01, tolerance=1e-9,
+        record=[*_blocks_record(("rigid3", "rigid4"), ("x", "v", "mode")),
+                *[f"K4_mass{i}.{c}" for i in (1, 2) for c in ("s", "mode")]],
+        figures=_limits_order_figures, plot=["rigid4.v", "K4_mass1.s", "K4_mass2.s"],
+        mode="me", seed="9.3",
+        reference="K → ∞ then ε → 0: first slip within rigorous bounds from Eq. 9.5 → "
+                  "μs m g/(k v) = 8; ε → 0 then K → ∞: μs m g/(2 k v) = 4 (closed form)"),
     "distinguished_limit_n4": Scene(
         "distinguished_limit_n4", "seed 9.3: the block as n = 4 masses m/4 joined by stiff "
         "springs K = 1e2, 1e3, 1e4 N/m (exact Coulomb friction): the front mass slips "

@@ -100,11 +100,14 @@ def _two_block_belt_figures(result: Result, asm: Assembly) -> list[Figure]:
     # at d / 2m, so by 300 s the transient of steady sliding is exp(-7.5) = 5.5e-4 of its
     # start, below 0.25 m: 1.4e-4, inside the issue's 1e-3
     return [Figure("t_slip", f"first slip time of {first} [s] vs (mu_s m g - d v)/(c v)",
-                   slips[0] if slips else math.nan, t_slip, 1e-6),
+                   slips[0] if slips else math.nan, t_slip, 1e-6,
+                   source="closed form (mu_s m g - d v)/(c v) (ours: the seed's 9.2 block, extended to two)"),
             Figure("s1_end", "block1 position at the stop time [m] vs K^-1 mu_k m g",
-                   float(result["block1.s"][-1]), float(s_eq[0]), 1e-3),
+                   float(result["block1.s"][-1]), float(s_eq[0]), 1e-3,
+                   source="closed form K^-1 mu_k m g (ours: the two-block statics, not the seed's)"),
             Figure("s2_end", "block2 position at the stop time [m] vs K^-1 mu_k m g",
-                   float(result["block2.s"][-1]), float(s_eq[1]), 1e-3)]
+                   float(result["block2.s"][-1]), float(s_eq[1]), 1e-3,
+                   source="closed form K^-1 mu_k m g (ours: the two-block statics, not the seed's)")]
 
 
 def _events(result: Result, instance: str):
@@ -158,12 +161,15 @@ def _axle_motor_figures(result: Result, asm: Assembly) -> list[Figure]:
     # the losses' trapezoid rule errs by about (I_h - I_2h) / 3 (Richardson); allow 3 x that
     quadrature = _trapezoid_accuracy(t, power_lost)
     return [Figure("phi_rel", "shaft twist at the stop time [rad] vs -tau_stall/c",
-                   float(result["shaft.phi_rel"][-1]), -tau_stall / c, twist),
+                   float(result["shaft.phi_rel"][-1]), -tau_stall / c, twist,
+                   source="statics (stall torque / shaft stiffness, derived here)"),
             # the torque balance holds to what the spring's twist does: c x its accuracy
             Figure("hold_excess", "bearing torque needed to hold the disk beyond tau_c [N.m]",
-                   max(0.0, holding - body.values["tau_c"]), 0.0, c * twist),
+                   max(0.0, holding - body.values["tau_c"]), 0.0, c * twist,
+                   source="statics (torque balance, derived here)"),
             Figure("W_motor", "motor work [J] vs stored energy + bearing and shaft losses",
-                   W, float(stored + losses), quadrature + solver_accuracy(result, W))]
+                   W, float(stored + losses), quadrature + solver_accuracy(result, W),
+                   source="energy balance (work = stored + dissipated)")]
 
 
 def _twist_accuracy(result: Result, asm: Assembly) -> float:
@@ -275,7 +281,8 @@ def _beam_friction_damper_figures(result: Result, asm: Assembly) -> list[Figure]
     reference = work + held if pad["d"] == 0.0 else math.nan
     figures = [Figure("E_lost", "beam energy lost [J] vs mu_k N x sliding distance (from the "
                       "pad's events) + change of pad and contact-spring energy (pad d = 0)",
-                      float(E[0] - E[-1]), reference, solver_accuracy(result, work + held))]
+                      float(E[0] - E[-1]), reference, solver_accuracy(result, work + held),
+                      source="energy balance (friction work from the located events)")]
     # the final stuck state: after the last event the pad holds still and the contact
     # spring is a tip spring to ground at the pad's position
     events = _events_x(result, "pad")
@@ -291,10 +298,12 @@ def _beam_friction_damper_figures(result: Result, asm: Assembly) -> list[Figure]
     omega = _stuck_frequency(result, t_last) if stuck else math.nan
     # a least-squares fit of the stuck system's exact two-mode motion: the issue's 1e-6
     figures.append(Figure("omega_stuck", "tip frequency once the pad sticks for good [rad/s] "
-                          "vs beam with k_tip = pad k, first mode", omega, omega_ref, 1e-6))
+                          "vs beam with k_tip = pad k, first mode", omega, omega_ref, 1e-6,
+                          source="the discretised beam-with-tip-spring eigenvalue (ours)"))
     figures.append(Figure("t_stick", "time the pad sticks for good [s] (no reference: "
                           "passes if the pad sticks for good before the stop time, nan fails)",
-                          t_last if stuck else math.nan, t_last if stuck else math.nan, 0.0))
+                          t_last if stuck else math.nan, t_last if stuck else math.nan, 0.0,
+                          source="none (a premise: the pad sticks for good)"))
     return figures
 
 

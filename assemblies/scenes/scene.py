@@ -21,6 +21,12 @@ class Figure:
     quadrature error estimate), never fitted to a run's error. A figure passes when its error is finite and within the accuracy: a NaN
     measurement (an event that never came, too few samples to measure) fails, and so does
     a figure whose accuracy was never stated (NaN, the default).
+
+    `source` names where the reference comes from, so that a reader can tell the seed's
+    own numbers from ours: "seed Eq. 9.9", "closed form derived here from ...",
+    "independent integration (scipy, written from the seed's Eqs. 9.14-9.16)", "conservation
+    law", "the exact event-driven solution (ours)". The run's table prints it after the
+    description; an empty source prints as "not stated".
     """
     name: str
     description: str
@@ -28,6 +34,7 @@ class Figure:
     reference: float
     accuracy: float = math.nan
     relative: bool = False
+    source: str = ""
 
     def __post_init__(self):
         if self.accuracy < 0:  # False for NaN: an unstated accuracy is allowed, and fails

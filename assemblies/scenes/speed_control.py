@@ -90,19 +90,25 @@ def _speed_control_figures(result: Result, asm: Assembly) -> list[Figure]:
     return [
         Figure("v_loop", "largest |v - v_hand| [m/s] over the run (v_hand: m e'' + k e' + "
                "(k/Ti) e = 0 solved by hand)", float(np.abs(v - v_hand).max()), 0.0,
-               solver_accuracy(result, loop["v_ref"])),
+               solver_accuracy(result, loop["v_ref"]),
+               source="closed form (the loop's linear ODE solved by hand)"),
         Figure("f_loop", "largest |f - f_hand| [N], the controller FMU's force over the run",
-               float(np.abs(f - f_hand).max()), 0.0, solver_accuracy(result, scale_f)),
+               float(np.abs(f - f_hand).max()), 0.0, solver_accuracy(result, scale_f),
+               source="closed form (the loop's linear ODE solved by hand)"),
         Figure("v_peak", f"overshoot: peak speed [m/s] (closed form: at t = {t_peak:.4f} s)",
-               peak, v_peak, solver_accuracy(result, loop["v_ref"]) + hermite),
+               peak, v_peak, solver_accuracy(result, loop["v_ref"]) + hermite,
+               source="closed form (the loop's first turning point)"),
         Figure("v_end", "speed at the end [m/s] vs the set point v_ref", float(v[-1]),
-               loop["v_ref"], solver_accuracy(result, loop["v_ref"]) + left),
+               loop["v_ref"], solver_accuracy(result, loop["v_ref"]) + left,
+               source="set point (integral action: no steady error)"),
         Figure("f_end", "controller force at the end [N] vs kinetic friction mu_k m g",
                float(f[-1]), loop["friction"],
-               solver_accuracy(result, scale_f) + loop["m"] * omega0 * left),
+               solver_accuracy(result, scale_f) + loop["m"] * omega0 * left,
+               source="statics (kinetic friction mu_k m g)"),
         # the closed form holds while the block slides forward: it must never stick
         Figure("not_sliding", "output points where the block is not sliding forward "
-               "(the closed form's premise)", float(np.count_nonzero(sliding != 1)), 0.0, 0.0),
+               "(the closed form's premise)", float(np.count_nonzero(sliding != 1)), 0.0, 0.0,
+               source="premise of the closed form"),
     ]
 
 

@@ -21,7 +21,7 @@ from components.translational.spring_block import SpringBlock
 from ..assembly import Assembly
 from ..result import Result
 from .references import earliest_zero
-from .scene import Figure, Scene
+from .scene import Figure, Scene, solver_accuracy
 from .table_plot import plot_table
 
 U, OMEGA, MU, G, M = 0.1, 20.0, 0.4, 1.0, 1.0
@@ -81,13 +81,15 @@ def _moving_table_figures(result: Result, asm: Assembly) -> list[Figure]:
     # cycle, O(eps^2): about (mu g / omega) (2 pi mu g / omega) / (U omega) = 2 pi eps^2 U omega.
     return [Figure("decay_rate", "decay rate of the cycle-averaged velocity, V < U omega/4 [1/s]",
                    rate, 2 * mu * g / (math.pi * p["omega"] * p["U"]), eps + 0.25**2 / 6,
-                   relative=True),
+                   relative=True,
+                   source="seed 9.6 ex. 1 (averaged law, rate 2 mu g/(pi omega U))"),
             # the seed's averaged law before linearising: V' = -(2 mu g / pi) arcsin(V / (U omega))
             # (NaN, a FAIL, where the run stops within the first cycle)
             Figure("V_first", "mean absolute velocity over the first cycle [m/s]",
                    vc[0] if len(vc) else math.nan,
                    _averaged_law_first_cycle(1.5, mu * g, p["U"] * p["omega"], period),
-                   2 * math.pi * eps**2 * p["U"] * p["omega"])]
+                   2 * math.pi * eps**2 * p["U"] * p["omega"],
+                   source="seed 9.6 ex. 1 (averaged law before linearising, integrated here)")]
 
 
 def _averaged_law_first_cycle(v0, mu_g, u_omega, period):
@@ -97,6 +99,52 @@ def _averaged_law_first_cycle(v0, mu_g, u_omega, period):
                     (0, period), [v0], dense_output=True, rtol=1e-10, atol=1e-12)
     tt = np.linspace(0, period, 201)
     return float(np.trapezoid(sol.sol(tt)[0], tt) / period)
+
+
+# --- still_table: seed 9.6 example 1 without the shaking --------------------------------
+def _still_table() -> Assembly:
+    return _table_block("still_table", SineMotion(U=0.0, omega=OMEGA), v_absolute=1.5)
+
+
+def _stick_time(result: Result) -> tuple[float, float]:
+    """(t, s) of the located event where the block first comes to rest on the table."""
+    ev = result.events.get("block")
+    if ev is None:
+        return math.nan, math.nan
+    stuck = np.flatnonzero(ev["block.mode"] == 0)
+    return ((float(ev["time"][stuck[0]]), float(ev["block.s"][stuck[0]])) if len(stuck)
+            else (math.nan, math.nan))
+
+
+def _still_table_figures(result: Result, asm: Assembly) -> list[Figure]:
+    """The seed's remark under example 1: without the table's oscillation the velocity
+    falls linearly, v = v0 - mu g t, to rest at v0 / (mu g), having slid v0^2 / (2 mu g);
+    the shaken block of moving_table still moves at v0 exp(-0.1273 t) then."""
+    block = asm.component("block")
+    mu_g = block.values["mu_k"] * block.values["g"]
+    v_abs = result["block.v"] + result["table.flange.v"]
+    v0 = float(v_abs[0])
+    t_stop, s_stop = _stick_time(result)
+    t_ref, s_ref = v0 / mu_g, v0**2 / (2 * mu_g)
+    t = result["time"]
+    sliding = t < t_ref
+    # the least-squares slope of the samples before the stop: exact for a straight line,
+    # so only the solver's error per sample moves it, by at most sum |weights| times it
+    tt, vv = t[sliding], v_abs[sliding]
+    weights = (tt - tt.mean()) / np.sum((tt - tt.mean()) ** 2)
+    slope = float(np.sum(weights * vv))
+    return [Figure("t_stop", "time the block comes to rest [s] vs v0 / (mu g)", t_stop, t_ref,
+                   solver_accuracy(result, t_ref),
+                   source="seed 9.6 ex. 1 (without oscillation the velocity falls linearly)"),
+            Figure("s_stop", "distance slid [m] vs v0^2 / (2 mu g)", s_stop, s_ref,
+                   solver_accuracy(result, s_ref),
+                   source="closed form (constant deceleration mu g, derived here)"),
+            Figure("decel", "slope of v_abs before the stop [m/s2] vs -mu g", slope, -mu_g,
+                   float(np.sum(np.abs(weights))) * solver_accuracy(result, v0),
+                   source="seed 9.6 ex. 1 (linear decrease at mu g)"),
+            Figure("v_end", "absolute velocity at the stop time [m/s] (at rest: 0)",
+                   float(v_abs[-1]), 0.0, solver_accuracy(result, v0),
+                   source="statics (at rest on a still table, friction holds it)")]
 
 
 # --- conveyor: seed 9.6 example 2 -----------------------------------------------------
@@ -285,7 +333,8 @@ def _conveyor_figures(result: Result, asm: Assembly) -> list[Figure]:
                                  block["mu_s"], block["mu_k"], block["g"])
     return [Figure("V_steady", f"mean absolute velocity over the last {CONVEYOR_MEASURED_PERIODS} "
                                "periods vs the exact periodic Coulomb motion [m/s]",
-                   float(mean), exact, CONVEYOR_ACCURACY)]
+                   float(mean), exact, CONVEYOR_ACCURACY,
+                   source="exact periodic Coulomb motion (event-driven, derived here; the seed estimates 1.069)")]
 
 
 _RECORD = ["block.x", "block.v", "block.s", "block.mode", "block.f_friction",
@@ -297,6 +346,13 @@ TABLE_SCENES: dict[str, Scene] = {
         _moving_table, stop_time=64 * PERIOD, step=PERIOD / 16, tolerance=1e-8,
         record=_RECORD, figures=_moving_table_figures, picture=plot_table,
         seed="9.6 ex. 1", reference="decay rate 2μ/(πωU) = 0.1273"),
+    "still_table": Scene(
+        "still_table", "seed 9.6 ex. 1 without the shaking: the same block on a still table "
+        "slows linearly and stops (the reference case moving_table is measured against)",
+        _still_table, stop_time=64 * PERIOD, step=PERIOD / 16, tolerance=1e-8,
+        record=_RECORD, figures=_still_table_figures, picture=plot_table,
+        seed="9.6 ex. 1", reference="v = v0 − μ g t: rest at v0/(μg) = 3.75 s after "
+        "v0²/(2μg) = 2.8125 m (the shaken block: v0 e^(−0.1273 t))"),
     "conveyor": Scene(
         "conveyor", "seed 9.6 ex. 2: asymmetric shaking conveys the block at a steady speed",
         _conveyor, stop_time=120 * PERIOD, step=PERIOD / 16, tolerance=1e-8,

@@ -1,5 +1,6 @@
 """The seed's bodies: the rigid body on an axle, the assumed-modes beam, the rolling coin,
-the torque-free and dissipative rigid bodies and the bodies of chapters 5-8.
+the torque-free and dissipative rigid bodies, the bodies of chapters 5-8 and the flat
+sliders of 9.8.
 
 Names are imported on first use (PEP 562), like the top-level ``components``.
 """
@@ -15,10 +16,14 @@ WHERE = {
     "Skate": ".rigid_bodies",
     "TorqueFreeBody": ".rigid_bodies",
     "WobblingDisk": ".rigid_bodies",
+    "RigidBodyOnString": ".string_body",
     "RollingCoin": ".rolling_coin",
+    "ConeOnIncline": ".seed_bodies",
     "HemisphericalShell": ".seed_bodies",
     "InclinedCylinder": ".seed_bodies",
     "RodOnRollers": ".seed_bodies",
+    "SlidingDisk": ".planar_sliding",
+    "SlidingRod": ".planar_sliding",
 }
 
 __all__ = sorted(WHERE)

@@ -127,3 +127,73 @@ class RodOnRollers(Component):
         margin = ca.fmin(p.D / 2, (p.L - p.D) / 2) - ca.fabs(x)
         e.output("margin", margin, "m", "distance to the edge of the model's validity")
         e.terminate_when(margin, "the rod left |x| < min(D/2, (L - D)/2): it tips or falls off")
+
+
+def _rotation(axis: str, angle):
+    """Rotation matrix about a body axis x, y or z (CasADi)."""
+    c, s = ca.cos(angle), ca.sin(angle)
+    if axis == "x":
+        return ca.vertcat(ca.horzcat(1, 0, 0), ca.horzcat(0, c, -s), ca.horzcat(0, s, c))
+    if axis == "y":
+        return ca.vertcat(ca.horzcat(c, 0, s), ca.horzcat(0, 1, 0), ca.horzcat(-s, 0, c))
+    return ca.vertcat(ca.horzcat(c, -s, 0), ca.horzcat(s, c, 0), ca.horzcat(0, 0, 1))
+
+
+class ConeOnIncline(Component):
+    """Uniform right circular cone rolling without slip on an incline (seed 8.6, exercise 2).
+
+    The cone lies on its side: its slant line from the apex A to the base rim touches the
+    plane. No slip along the whole line pins the apex, so A is a fixed point and the one
+    coordinate is ``phi``, the angle of the contact line in the plane from straight down
+    the slope. Rolling ties the spin about the cone's own axis to phi (the base rim rolls
+    on the circle of radius h the rim point traces): ``psi = -phi / sin(beta)``, beta the
+    half-angle, sin(beta) = R / h, which makes the constraint holonomic. The equation of
+    motion is written by Lagrange from the body itself, not from a derived inertia:
+    attitude ``Q = Rz(phi) Ry(-beta) Rx(psi)`` in incline axes (x down the slope, z the
+    plane's normal), the inertia tensor about the apex in body axes (x the cone's axis)
+    ``diag(3 m R^2 / 10, I_t, I_t)``, ``I_t = 3 m (R^2 / 4 + H^2) / 5``, H = h cos(beta)
+    the height, the angular velocity from ``Q' Q^T`` and G at 3H/4 along the axis.
+    Valid while the cone rolls (friction enough) and stays on its side.
+    Parameters: ``m`` [kg], ``R`` [m] base radius, ``h`` [m] slant height > R, ``g``
+    [m/s2], ``alpha`` [rad] the incline's angle. States: ``phi`` [rad], ``w`` [rad/s].
+    Outputs: ``z_G`` [m] height of G above the plane (constant: the plane's normal force
+    does no work), ``E`` [J] kinetic plus potential energy (zero with G level with A),
+    ``omega`` [rad/s] the magnitude of the angular velocity, along the contact line.
+    """
+
+    parameters = (Parameter("m", 1.0, "kg", "mass of the cone", min=0.0, min_strict=True),
+                  Parameter("R", 0.1, "m", "radius of the base circle", min=0.0, min_strict=True),
+                  Parameter("h", 0.3, "m", "slant height, apex to the base rim",
+                            min=0.0, min_strict=True),
+                  Parameter("g", 9.81, "m/s2", "gravity", min=0.0),
+                  Parameter("alpha", 0.3, "rad", "angle of the incline to the horizontal",
+                            min=0.0, max=1.5707963267948966))
+    constraints = (Constraint(lambda p: p.h - p.R, "h > R (the slant is longer than the radius)",
+                              strict=True),)
+    states = (State("phi", 0.0, "rad", "contact line's angle in the plane from down the slope"),
+              State("w", 0.0, "rad/s", "rate of phi"))
+    profiles = _FREE
+
+    def equations(self, e):
+        p, phi, w = e.p, e.x.phi, e.x.w
+        sin_b = p.R / p.h
+        cos_b = ca.sqrt(1 - sin_b**2)
+        beta = ca.asin(sin_b)
+        H = p.h * cos_b
+        Q = _rotation("z", phi) @ _rotation("y", -beta) @ _rotation("x", -phi / sin_b)
+        # angular velocity per unit phi': vee(dQ/dphi Q^T), in incline axes
+        W = ca.jacobian(ca.reshape(Q, 9, 1), phi)
+        W = ca.reshape(W, 3, 3) @ Q.T
+        Omega = ca.vertcat(W[2, 1], W[0, 2], W[1, 0])
+        I_t = 3 * p.m * (p.R**2 / 4 + H**2) / 5
+        I_body = ca.diag(ca.vertcat(3 * p.m * p.R**2 / 10, I_t, I_t))
+        M = Omega.T @ Q @ I_body @ Q.T @ Omega  # T = M phi'^2 / 2, about the fixed apex
+        r_G = Q @ ca.vertcat(3 * H / 4, 0, 0)
+        gravity = p.g * ca.vertcat(ca.sin(p.alpha), 0, -ca.cos(p.alpha))
+        V = -p.m * ca.dot(gravity, r_G)
+        e.residual(e.der.phi - w)
+        e.residual(M * e.der.w + ca.jacobian(M, phi) * w**2 / 2 + ca.jacobian(V, phi))
+        e.output("z_G", r_G[2], "m", "height of the centre of mass above the plane")
+        e.output("E", M * w**2 / 2 + V, "J", "kinetic plus potential energy")
+        e.output("omega", ca.norm_2(Omega) * ca.fabs(w), "rad/s",
+                 "magnitude of the angular velocity (along the contact line)")

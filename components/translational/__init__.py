@@ -1,5 +1,6 @@
 """Translational elements (MSL ``Modelica.Mechanics.Translational.Components``): springs,
-dampers, masses with friction and the seed's spring-block.
+dampers, a gap, masses with friction, stops and brakes, the seed's spring-block and the
+Burridge-Knopoff block.
 
 Names are imported on first use (PEP 562), like the top-level ``components``.
 """
@@ -9,6 +10,16 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "FaultBlock": ".fault_block",
+    "Brake": ".brakes",
+    "SupportFriction": ".brakes",
+    "Damper": ".elements",
+    "ElastoGap": ".elements",
+    "Fixed": ".elements",
+    "Junction": ".rigid",
+    "Rod": ".rigid",
+    "Mass": ".masses",
+    "MassWithStopAndFriction": ".masses",
     "MassWithFriction": ".elements",
     "Spring": ".elements",
     "SpringDamper": ".elements",

@@ -563,6 +563,44 @@ fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndica
                                       nEventIndicators));
 }
 
+/* Not FMI: mechfmu's engine looks this up by name in an FMU it runs alone and, where it
+   is there, calls it for each right-hand side and indicator sample instead of
+   fmi3SetTime, fmi3SetContinuousStates and the reads: one call through the library
+   boundary instead of four, each through the engine's and this file's wrappers and
+   checks, which cost more than a small model's right-hand side. derivatives or
+   eventIndicators NULL: not read. The runtime's mf_evaluate_at does the ordinary case;
+   where it declines (a point one of the four would refuse, or a runtime without it: an
+   assembly's), the four calls follow here, and say why they refuse. */
+__attribute__((visibility("default"))) fmi3Status
+mfEvaluateAt(fmi3Instance instance, fmi3Float64 time, const fmi3Float64 continuousStates[],
+             size_t nContinuousStates, fmi3Float64 derivatives[], fmi3Float64 eventIndicators[],
+             size_t nEventIndicators)
+{
+    mf_instance *I = INST(instance);
+    mf_status st, next;
+    if (mf_evaluate_at(I, time, continuousStates, nContinuousStates, derivatives,
+                       eventIndicators, nEventIndicators) == MF_OK)
+        return fmi3OK;
+    st = mf_set_time(I, "fmi3SetTime", time);
+    /* a warning goes on, as it would between the four calls; the worst status is returned */
+    if (st <= MF_WARNING) {
+        next = mf_set_continuous_states(I, "fmi3SetContinuousStates", continuousStates,
+                                        nContinuousStates);
+        st = next > st ? next : st;
+    }
+    if (st <= MF_WARNING && derivatives) {
+        next = mf_get_derivatives(I, "fmi3GetContinuousStateDerivatives", derivatives,
+                                  nContinuousStates);
+        st = next > st ? next : st;
+    }
+    if (st <= MF_WARNING && eventIndicators) {
+        next = mf_get_event_indicators(I, "fmi3GetEventIndicators", eventIndicators,
+                                       nEventIndicators);
+        st = next > st ? next : st;
+    }
+    return ST(st);
+}
+
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
                                    size_t nContinuousStates)
 {

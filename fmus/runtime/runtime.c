@@ -287,15 +287,21 @@ static int all_finite(const double *v, int n)
     return 1;
 }
 
-static int update_xdot(mf_instance *I, const char *fn)
+/* The derivatives at the current point, unless known: 1, or 0 (nothing logged) where
+   the evaluation fails */
+static int eval_xdot(mf_instance *I)
 {
     if (I->xdot_valid) return 1;
-    if (call(I, &I->m->ode, I->t, I->x, I->q, inputs_at(I, I->t), I->xdot, NULL)) {
-        log_error(I, "%s: evaluation of the state derivatives failed at t = %.17g", fn, I->t);
-        return 0;
-    }
+    if (call(I, &I->m->ode, I->t, I->x, I->q, inputs_at(I, I->t), I->xdot, NULL)) return 0;
     I->xdot_valid = 1;
     return 1;
+}
+
+static int update_xdot(mf_instance *I, const char *fn)
+{
+    if (eval_xdot(I)) return 1;
+    log_error(I, "%s: evaluation of the state derivatives failed at t = %.17g", fn, I->t);
+    return 0;
 }
 
 static int update_y(mf_instance *I, const char *fn)
@@ -311,23 +317,30 @@ static int update_y(mf_instance *I, const char *fn)
     return 1;
 }
 
+/* The indicators at the current point, unless known: 0, else 1 where the evaluation
+   fails and 2 where an indicator is not finite (nothing logged) */
+static int eval_z(mf_instance *I)
+{
+    if (I->z_valid) return 0;
+    if (call(I, &I->m->zc, I->t, I->x, I->q, inputs_at(I, I->t), I->z, NULL)) return 1;
+    if (!all_finite(I->z, I->m->n_z)) return 2;
+    I->z_valid = 1;
+    return 0;
+}
+
 static int update_z(mf_instance *I, const char *fn)
 {
-    if (I->z_valid) return 1;
-    if (call(I, &I->m->zc, I->t, I->x, I->q, inputs_at(I, I->t), I->z, NULL)) {
+    int i, why = eval_z(I);
+    if (why == 0) return 1;
+    if (why == 1) {
         log_error(I, "%s: evaluation of the event indicators failed at t = %.17g", fn, I->t);
         return 0;
     }
-    if (!all_finite(I->z, I->m->n_z)) {
-        /* no crossing can be decided from a NaN, and a read must not report one as OK */
-        int i;
-        for (i = 0; i < I->m->n_z && isfinite(I->z[i]); i++) {}
-        log_error(I, "%s: event indicator %d is not finite (%g) at t = %.17g", fn, i + 1,
-                  I->z[i], I->t);
-        return 0;
-    }
-    I->z_valid = 1;
-    return 1;
+    /* no crossing can be decided from a NaN, and a read must not report one as OK */
+    for (i = 0; i < I->m->n_z && isfinite(I->z[i]); i++) {}
+    log_error(I, "%s: event indicator %d is not finite (%g) at t = %.17g", fn, i + 1, I->z[i],
+              I->t);
+    return 0;
 }
 
 static int crossed(double before, double after) { return mf_crossed(before, after); }
@@ -1230,6 +1243,49 @@ mf_status mf_get_event_indicators(mf_instance *I, const char *fn, double z[], si
     if (!update_z(I, fn)) return MF_ERROR;
     if (n) memcpy(z, I->z, n * sizeof(double));
     shifted(I, z);
+    return MF_OK;
+}
+
+/* bitwise, as memcmp (a state going from 0.0 to -0.0 is a change), inlined for the few
+   states of a small model */
+static int same_states(const double *a, const double *b, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (memcmp(a + i, b + i, sizeof(double)) != 0) return 0;
+    return 1;
+}
+
+mf_status mf_evaluate_at(mf_instance *I, double t, const double x[], size_t n, double dx[],
+                         double z[], size_t nz)
+{
+    const mf_model *m;
+    int i;
+    if (!I || I->iface != MF_MODEL_EXCHANGE || !(I->phase & (PH_CONT | PH_EVENT)) || I->failed
+        || !isfinite(t))
+        return MF_DISCARD;
+    m = I->m;
+    if (n != (size_t)m->n_x || (n && !x) || (z && nz != (size_t)m->n_z)) return MF_DISCARD;
+    for (i = 0; i < m->n_x; i++)
+        if (!isfinite(x[i])) return MF_DISCARD;
+    if (!(I->t == t && I->t_u == t)) { /* as mf_set_time */
+        I->t = t;
+        I->t_u = t;
+        if (!m->time_invariant) invalidate(I);
+    }
+    if (!same_states(I->x, x, m->n_x)) { /* as mf_set_continuous_states */
+        for (i = 0; i < m->n_x; i++) I->x[i] = x[i];
+        invalidate(I);
+    }
+    if (dx) { /* as mf_get_derivatives */
+        if (!eval_xdot(I) || !all_finite(I->xdot, m->n_x)) return MF_DISCARD;
+        for (i = 0; i < m->n_x; i++) dx[i] = I->xdot[i];
+    }
+    if (z) { /* as mf_get_event_indicators */
+        if (eval_z(I)) return MF_DISCARD;
+        for (i = 0; i < m->n_z; i++) z[i] = I->z[i];
+        shifted(I, z);
+    }
     return MF_OK;
 }
 

@@ -133,6 +133,14 @@ mf_status mf_set_continuous_states(mf_instance *inst, const char *fn, const doub
 mf_status mf_get_continuous_states(mf_instance *inst, const char *fn, double x[], size_t n);
 mf_status mf_get_derivatives(mf_instance *inst, const char *fn, double dx[], size_t n);
 mf_status mf_get_event_indicators(mf_instance *inst, const char *fn, double z[], size_t n);
+/* mf_set_time, mf_set_continuous_states, then mf_get_derivatives (dx != NULL) and
+   mf_get_event_indicators (z != NULL) in one call, in the ordinary case only: MF_OK, or
+   MF_DISCARD with nothing logged wherever one of them would refuse or fail (time and
+   states may be set by then, as those calls would have set them), and always where a
+   runtime has no such shortcut: the caller makes the four calls, which say why
+   (fmi3.c's mfEvaluateAt). */
+mf_status mf_evaluate_at(mf_instance *inst, double t, const double x[], size_t n, double dx[],
+                         double z[], size_t nz);
 mf_status mf_get_nominals(mf_instance *inst, const char *fn, double nominals[], size_t n);
 mf_status mf_get_number_of_states(mf_instance *inst, const char *fn, size_t *n);
 mf_status mf_get_number_of_event_indicators(mf_instance *inst, const char *fn, size_t *n);

@@ -97,6 +97,23 @@ def test_shell_figures_hold_at_another_amplitude_and_size():
     assert figures["omega0"].error > 0.02 * figures["omega0"].reference
 
 
+@pytest.mark.parametrize("name", ["shell_rolling", "shell_frictionless"])
+def test_shell_linear_frequency_is_held_to_the_amplitude_shift_not_double_it(name):
+    """At 0.2 rad the seed's linear frequency is off by Lindstedt's c A^2 (-1.0 % rolling):
+    omega0 allows that and its A^4 remainder, 2 (c A^2)^2, no more (a frequency 2 % off
+    passed before); omega_lin removes the amplitude with the energy integral and meets
+    the seed's sqrt(3g/4R) or sqrt(6g/5R) to the solver's accuracy."""
+    run = run_scene_full(name)
+    figures = _figures(run)
+    contact = name.split("_")[1]
+    shift = abs(shell_amplitude_shift(contact)) * 0.2**2
+    assert figures["omega0"].accuracy <= shift + 2 * shift**2 + 1e-9
+    assert figures["omega0"].error > 0.9 * shift * figures["omega0"].reference
+    omega_sq = {"rolling": 3 / 4, "frictionless": 6 / 5}[contact]
+    assert figures["omega_lin"].reference == pytest.approx(math.sqrt(omega_sq * G))
+    assert figures["omega_lin"].accuracy < 1e-7 and figures["omega_lin"].passed
+
+
 # --- 9.6 ex. 3 -----------------------------------------------------------------------
 def test_rod_with_a_push_follows_the_closed_form():
     run = run_scene_full("rod_on_rollers", params={"rod.v": 0.3, "rod.mu": 0.2})
@@ -145,6 +162,15 @@ def test_wobble_is_twice_the_spin_only_for_a_small_wobble():
     assert figures["wobble"].passed
     assert figures["wobble"].reference == pytest.approx(2 / math.cos(0.6))
     assert figures["twice_spin"].error > 0.2
+
+
+def test_twice_spin_allows_what_the_cone_angle_gives_and_no_more():
+    """The exact ratio is 2 / cos(b): "twice the spin" holds to 1 / cos(b) - 1 (5.2 % for
+    the thrown disk's b = 0.32), not b^2 (10 %, which let 2.15 pass)."""
+    figures = _figures(run_scene_full("thrown_disk"))
+    b_part = figures["wobble"].reference / 2 - 1  # 1 / cos(b) - 1
+    assert figures["twice_spin"].accuracy == pytest.approx(b_part, abs=1e-7)
+    assert 0.05 < b_part < 0.06
 
 
 def test_thrown_disk_is_not_a_steady_wobble():

@@ -89,7 +89,8 @@ def test_the_wheel_carries_the_c_sources_and_the_benchmarks(wheel):
     with zipfile.ZipFile(wheel) as zf:
         names = set(zf.namelist())
     wanted = [p.relative_to(ROOT).as_posix() for folder in
-              ("fmus/runtime", "assemblies/engine/c", "assemblies/engine/fmu", "benchmarks")
+              ("fmus/runtime", "assemblies/engine/c", "assemblies/engine/fmu",
+               "assemblies/engine/fault_c", "benchmarks")
               for p in (ROOT / folder).glob("*.[ch]")]
     wanted += [p.relative_to(ROOT).as_posix() for top in
                ("components", "fmus", "assemblies", "benchmarks")

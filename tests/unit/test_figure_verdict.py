@@ -67,3 +67,30 @@ def test_all_pass_is_said_too():
     assert run.passed and run.summary()["passed"] is True
     assert run.table().splitlines()[-1] == "all 2 figures pass"
     assert run.table(verdict=False).splitlines()[-1].startswith("stop time 300 s")
+
+
+def test_each_figure_names_its_source_in_the_table_and_the_summary():
+    run = _run([Figure("t1", "slip time [s]", 8.0, 8.0, 1e-8, source="seed Eq. 9.5"),
+                Figure("t2", "re-stick [s]", 12.0689, 12.0689, 1e-8)])
+    lines = run.table().splitlines()
+    assert lines[1].endswith("slip time [s]; source: seed Eq. 9.5")
+    # unnamed, it says so rather than passing silently as the seed's
+    assert lines[2].endswith("re-stick [s]; source: not stated")
+    assert [f["source"] for f in run.summary()["figures"]] == ["seed Eq. 9.5", ""]
+
+
+def test_every_scene_figure_names_its_source():
+    """Read from the scene modules' source, not from runs: every Figure(...) they build
+    passes a non-empty source= (issue 29: a reader must tell the seed's numbers from ours)."""
+    import ast
+    from pathlib import Path
+
+    import assemblies.scenes as scenes
+    missing = []
+    for path in sorted(Path(scenes.__file__).parent.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "Figure":
+                source = next((k.value for k in node.keywords if k.arg == "source"), None)
+                if source is None or (isinstance(source, ast.Constant) and not source.value):
+                    missing.append(f"{path.name}:{node.lineno}")
+    assert not missing, missing

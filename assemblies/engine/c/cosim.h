@@ -13,7 +13,8 @@
  *     of order 0/1/2 through the source's last values (FMI 3 has no input
  *     derivatives; inputs the FMU extrapolates itself are set as plain values);
  *   - fixed communication steps, or adaptive ones: step doubling on the FMUs'
- *     continuous states, rollback through FMU state when a step is rejected;
+ *     continuous states, rollback through FMU state when a step is rejected, and a
+ *     few steps without an estimate after each accepted one (COAST_STEPS);
  *   - event synchronisation (optional; on by default with adaptive steps): a step in
  *     which an FMU locates an event is redone to end at the event, and an event an
  *     FMU handles at the start of a step (its inputs moved across an indicator's
@@ -30,7 +31,8 @@
  * error is a floor under the allowed error (below it the two runs cannot agree and
  * the step would shrink without end), a rejected step shrinks by what the estimate
  * says with no growth on the next step (halving regardless made reject/accept
- * cycles), and an event where the half steps meet keeps the first half alone.
+ * cycles), and an event where the half steps meet sends the first half back to be
+ * judged as a step of its own.
  */
 #ifndef MECHFMU_ENGINE_COSIM_H
 #define MECHFMU_ENGINE_COSIM_H

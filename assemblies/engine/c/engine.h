@@ -205,6 +205,14 @@ typedef struct {
        columns read. NULL: a row sets every instance and the couplings of `continuous`. */
     const int *row_coupling;
     int jacobian;                  /* ENG_JACOBIAN_AUTO, _FD or _EXACT */
+    /* Per instance i with event indicators, the couplings its indicators depend on
+       (through other instances' outputs too): indicator_coupling[indicator_start[i] ..
+       indicator_start[i + 1] - 1], in `couplings` order (n_instances + 1 starts). Event
+       location then looks at each instance alone, moving only it and the instances those
+       couplings read, so that its cost per step does not grow with the assembly. NULL:
+       every indicator is evaluated on the whole assembly. */
+    const int *indicator_start;
+    const int *indicator_coupling;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

@@ -59,6 +59,11 @@ typedef struct {
     fmi2GetBooleanStatusTYPE *get_boolean_status;
 } fmi2_api;
 
+/* mfEvaluateAt of FMUs built from our runtime (fmus/runtime/fmi3.c): fmi3SetTime,
+   fmi3SetContinuousStates, then the derivatives and event indicators read, in one call */
+typedef fmi3Status mf_evaluate_at_fn(fmi3Instance, fmi3Float64, const fmi3Float64[], size_t,
+                                     fmi3Float64[], fmi3Float64[], size_t);
+
 typedef struct {
     fmi3InstantiateModelExchangeTYPE *instantiate_me;
     fmi3InstantiateCoSimulationTYPE *instantiate_cs;
@@ -106,6 +111,7 @@ typedef struct {
     fmi3CompletedIntegratorStepTYPE *completed_integrator_step;
     fmi3EnterStepModeTYPE *enter_step_mode;
     fmi3DoStepTYPE *do_step;
+    mf_evaluate_at_fn *evaluate_at; /* not FMI: our runtime's mfEvaluateAt (fmi3.c) */
 } fmi3_api;
 
 /* The values this instance last set of one array variable: FMI 3 sets an array whole,
@@ -324,6 +330,7 @@ static void lookup3(fmu_t *f) {
     LOOKUP3(completed_integrator_step, "CompletedIntegratorStep");
     LOOKUP3(enter_step_mode, "EnterStepMode");
     LOOKUP3(do_step, "DoStep");
+    f->v3.evaluate_at = (mf_evaluate_at_fn *)symbol(f->library, "mfEvaluateAt");
 }
 
 /* The functions every FMU of this version and interface must have. */
@@ -889,6 +896,19 @@ int fmu_get_event_indicators(fmu_t *f, double *z, size_t n) {
     if (f->fmi_version == 2)
         return check(f, f->v2.get_event_indicators(f->instance, z, n), "GetEventIndicators");
     return check(f, f->v3.get_event_indicators(f->instance, z, n), "GetEventIndicators");
+}
+
+int fmu_can_evaluate_at(const fmu_t *f) {
+    return f->fmi_version == 3 && f->kind == FMU_MODEL_EXCHANGE && f->v3.evaluate_at != NULL;
+}
+
+int fmu_evaluate_at(fmu_t *f, double t, const double *x, size_t n, double *dx, double *z,
+                    size_t nz) {
+    /* where it fails, the FMU has said why; the caller makes the separate calls, so the
+       failure is reported where the engine reports each of them */
+    if (f->v3.evaluate_at(f->instance, t, x, n, dx, z, nz) > fmi3Warning) return FMU_ERROR;
+    f->message_is_error = 0; /* as check() after a call that succeeded */
+    return FMU_OK;
 }
 
 int fmu_get_nominals(fmu_t *f, double *nominals, size_t n) {

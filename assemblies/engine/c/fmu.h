@@ -139,6 +139,14 @@ int fmu_set_continuous_states(fmu_t *fmu, const double *x, size_t n);
 int fmu_get_continuous_states(fmu_t *fmu, double *x, size_t n);
 int fmu_get_derivatives(fmu_t *fmu, double *dx, size_t n);
 int fmu_get_event_indicators(fmu_t *fmu, double *z, size_t n);
+/* Whether fmu_evaluate_at can be called: an FMI 3 Model Exchange FMU built from our
+   runtime (it exports mfEvaluateAt). */
+int fmu_can_evaluate_at(const fmu_t *fmu);
+/* Time and states set, then the derivatives (dx != NULL) and the indicators (z != NULL)
+   read, in one call; FMU_OK, or nonzero where one of the separate calls would refuse or
+   fail (the caller makes them: they say what failed, as without this call). */
+int fmu_evaluate_at(fmu_t *fmu, double t, const double *x, size_t n, double *dx, double *z,
+                    size_t nz);
 int fmu_get_nominals(fmu_t *fmu, double *nominals, size_t n);
 int fmu_enter_event_mode(fmu_t *fmu);
 int fmu_update_discrete_states(fmu_t *fmu, fmu_event_info *info);

@@ -59,6 +59,11 @@ typedef struct {
        recorded columns alone need (eng_me_spec.row_coupling): a row sets only the
        row_instance[i] and the couplings of `rows`, when rows_partial */
     coupling_plan between, rows;
+    /* event location per instance (eng_me_spec.indicator_start): instance i's plan and
+       the instances it moves, local_instance[local_start[i] .. local_start[i + 1] - 1];
+       local NULL: the indicators are located on the whole assembly */
+    coupling_plan *local;
+    int *local_start, *local_instance;
     int *row_instance, rows_partial;
     int *set_again, any_set_again; /* foreign row instances: set again before a row */
     double *read;         /* source values read in one call per run, by plan index */
@@ -75,6 +80,7 @@ typedef struct {
     int dense_implicit;   /* the last accepted step was RODAS3's */
     double t_set;         /* the point the instances were last set to */
     int set_valid;
+    int thin;             /* one instance, no couplings, mfEvaluateAt: the thin path (thin_point) */
     long k_out;           /* next output row */
     int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
     int next_defined;     /* a time event is due at t_next */
@@ -214,11 +220,27 @@ static int set_row_point(me_master *M, double t, const double *x)
     return move_instances(M, t, x, M->row_instance) || couple(M, &M->rows, t) ? -1 : 0;
 }
 
+/* The one instance at (t, x) and its derivatives (dx) or indicators (z), in one call
+   through mfEvaluateAt (fmu_evaluate_at): an FMU alone with nothing coupled needs no
+   more, and the separate FMI calls cost more than a small model's right-hand side
+   (stick_slip: 2 states, 5,028 right-hand sides at tolerance 1e-10). 0 on success;
+   nonzero: the caller takes the separate calls, which say what failed. */
+static int thin_point(me_master *M, double t, const double *x, double *dx, double *z)
+{
+    M->set_valid = 0;
+    if (fmu_evaluate_at(M->fmus[0], t, x, (size_t)M->n_x, dx, z, (size_t)M->n_z)) return -1;
+    M->t_set = t;
+    if (M->n_x) memcpy(M->x_set, x, (size_t)M->n_x * sizeof(double));
+    M->set_valid = 1;
+    return 0;
+}
+
 static int rhs(void *ctx, double t, const double *x, double *dx)
 {
     me_master *M = ctx;
     int i;
     M->stats->rhs_calls++;
+    if (M->thin && !M->asleep[0] && thin_point(M, t, x, dx, NULL) == 0) return 0;
     if (set_point(M, t, x)) return -1;
     for (i = 0; i < M->n; i++) {
         int j;
@@ -382,6 +404,7 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
 static int indicators_at(me_master *M, double t, const double *x, double *z)
 {
     int i;
+    if (M->thin && !M->asleep[0] && M->n_z && thin_point(M, t, x, NULL, z) == 0) return 0;
     if (set_point(M, t, x)) return -1;
     for (i = 0; i < M->n; i++)
         if (M->z_off[i + 1] > M->z_off[i] &&
@@ -405,6 +428,87 @@ static int indicators_inside(void *ctx, double t, double *z)
     me_master *M = ctx;
     dense(M, t, M->x_tmp);
     return indicators_at(M, t, M->x_tmp, z);
+}
+
+/* Instance k's part of the dense output of the last accepted step, into x: the
+   solvers' own interpolation on the slice (a shallow copy whose coefficient rows start
+   at k's states), so that a local evaluation costs what k has, not the assembly. */
+static void dense_part(const me_master *M, double t, double *x, int k)
+{
+    int lo = M->x_off[k], n = M->x_off[k + 1] - lo, j;
+    if (n == 0) return;
+    if (M->dense_implicit) {
+        mf_ros part = M->ros;
+        part.n = n;
+        part.dx0 += lo; part.dx1 += lo; part.dc0 += lo; part.dc1 += lo;
+        mf_ros_dense(&part, t, x + lo);
+    } else {
+        mf_dopri part = M->dopri;
+        part.n = n;
+        for (j = 0; j < 5; j++) part.r[j] += lo;
+        mf_dopri_dense(&part, t, x + lo);
+    }
+}
+
+typedef struct {
+    me_master *M;
+    int instance;
+} local_ctx;
+
+/* mf_indicator_fn: one instance's indicators inside the last accepted step, with only
+   it and the instances its indicators read moved there (the others stay where they
+   were: the next set_point moves everything). */
+static int local_indicators(void *ctx, double t, double *z)
+{
+    const local_ctx *L = ctx;
+    me_master *M = L->M;
+    const int i = L->instance;
+    int a;
+    M->set_valid = 0;
+    for (a = M->local_start[i]; a < M->local_start[i + 1]; a++) {
+        int k = M->local_instance[a], nx = M->x_off[k + 1] - M->x_off[k];
+        if (M->asleep[k]) continue;
+        dense_part(M, t, M->x_tmp, k);
+        if (fmu_set_time(M->fmus[k], t)) return failed(M, k, "setting the time", t);
+        if (nx && fmu_set_continuous_states(M->fmus[k], M->x_tmp + M->x_off[k], (size_t)nx))
+            return failed(M, k, "setting the continuous states", t);
+    }
+    if (couple(M, &M->local[i], t)) return -1;
+    if (fmu_get_event_indicators(M->fmus[i], z, (size_t)(M->z_off[i + 1] - M->z_off[i])))
+        return failed(M, i, "getting the event indicators", t);
+    return 0;
+}
+
+/* The earliest crossing in (t_old, t] (mf_locate_event's result; M->z_hit: every
+   indicator there). Per instance where the spec allows it: a step in which block 7
+   slips then costs block 7's and its neighbours' evaluations, not the chain's, and an
+   instance whose indicators stay clear of zero costs two of its own. */
+static int locate(me_master *M, double t_old, double t, double *t_event)
+{
+    const eng_me_spec *s = M->spec;
+    int i, found = 0;
+    if (!M->local)
+        return mf_locate_event(indicators_inside, M, M->n_z, t_old, M->z_prev, t, M->z_now,
+                               s->event_subsamples, t_event, M->z_hit, M->z_work);
+    for (i = 0; i < M->n; i++) {
+        const int off = M->z_off[i], nz = M->z_off[i + 1] - off;
+        local_ctx L = {M, i};
+        double te;
+        int r;
+        if (nz == 0) continue;
+        r = mf_locate_event(local_indicators, &L, nz, t_old, M->z_prev + off, t, M->z_now + off,
+                            s->event_subsamples, &te, M->z_hit + off, M->z_work);
+        if (r < 0) return -1;
+        if (r && (!found || te < *t_event)) {
+            *t_event = te;
+            found = 1;
+        }
+    }
+    if (found) { /* every indicator at the earliest crossing: the ones that crossed by then */
+        dense(M, *t_event, M->x_tmp);
+        if (indicators_at(M, *t_event, M->x_tmp, M->z_hit)) return -1;
+    }
+    return found;
 }
 
 static void restart(me_master *M)
@@ -745,6 +849,7 @@ static int instantiate(me_master *M)
                                      M->message, sizeof M->message);
         if (M->fmus[i] == NULL) return -1;
     }
+    M->thin = M->n == 1 && s->n_couplings == 0 && fmu_can_evaluate_at(M->fmus[0]);
     return 0;
 }
 
@@ -868,8 +973,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
         M->t = t;
         M->stats->steps++;
         if (indicators_at(M, t, M->x, M->z_now)) return -1;
-        found = mf_locate_event(indicators_inside, M, M->n_z, t_old, M->z_prev, t, M->z_now,
-                                s->event_subsamples, &t_event, M->z_hit, M->z_work);
+        found = locate(M, t_old, t, &t_event);
         if (found < 0) {
             char why[sizeof M->message];
             snprintf(why, sizeof why, "%s", M->message[0] ? M->message : "not finite");
@@ -978,12 +1082,21 @@ static int plan_couplings(me_master *M, coupling_plan *P, const int *needed)
     for (i = 0; i <= n; i++) {
         /* close the segment start .. i-1 */
         if (i == n || targeted[live(M, P, i)->source.instance]) {
-            int w = start, inst;
+            int w = start;
             for (j = start; j < i; j++) P->segment_end[j] = i - 1;
-            for (inst = 0; inst < M->n; inst++) /* stable: by target instance */
-                for (j = start; j < i; j++)
-                    if (live(M, P, j)->target.instance == inst) P->write_order[w++] = j;
-            memset(targeted, 0, (size_t)M->n);
+            /* stable by target instance: an insertion per coupling, not a pass over every
+               instance per segment (an assembly's per-instance indicator plans made that
+               quadratic in its size) */
+            for (j = start; j < i; j++) {
+                const int target = live(M, P, j)->target.instance;
+                int k = w++;
+                while (k > start && live(M, P, P->write_order[k - 1])->target.instance > target) {
+                    P->write_order[k] = P->write_order[k - 1];
+                    k--;
+                }
+                P->write_order[k] = j;
+                targeted[target] = 0;
+            }
             start = i;
         }
         if (i < n) targeted[live(M, P, i)->target.instance] = 1;
@@ -1019,6 +1132,50 @@ static int plan_rows(me_master *M)
     M->rows_partial = M->rows.n_live < M->between.n_live;
     for (i = 0; i < M->n; i++) M->rows_partial = M->rows_partial || !M->row_instance[i];
     return 0;
+}
+
+/* Each instance's indicator plan (eng_me_spec.indicator_start): its couplings, and the
+   instances to move, itself and every source those couplings read. */
+static int plan_local(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    int i, a, p, total = 0, *mask, *mark;
+    if (!s->indicator_start) return 0;
+    M->local = calloc((size_t)M->n, sizeof(coupling_plan));
+    M->local_start = calloc((size_t)M->n + 1, sizeof(int));
+    mask = calloc((size_t)s->n_couplings + 1, sizeof(int));
+    mark = calloc((size_t)M->n + 1, sizeof(int));
+    if (!M->local || !M->local_start || !mask || !mark) goto fail;
+    for (i = 0; i < M->n; i++)
+        total += 1 + s->indicator_start[i + 1] - s->indicator_start[i];
+    M->local_instance = calloc((size_t)total + 1, sizeof(int));
+    if (!M->local_instance) goto fail;
+    for (i = 0; i < M->n; i++) {
+        const int first = s->indicator_start[i], count = s->indicator_start[i + 1] - first;
+        int n_inst = M->local_start[i];
+        if (plan_allocate(&M->local[i], count)) goto fail;
+        for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 1;
+        if (plan_couplings(M, &M->local[i], mask)) goto fail;
+        for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 0;
+        mark[i] = 1;
+        M->local_instance[n_inst++] = i;
+        for (p = 0; p < M->local[i].n_live; p++) {
+            int k = live(M, &M->local[i], p)->source.instance;
+            if (!mark[k]) {
+                mark[k] = 1;
+                M->local_instance[n_inst++] = k;
+            }
+        }
+        for (a = M->local_start[i]; a < n_inst; a++) mark[M->local_instance[a]] = 0;
+        M->local_start[i + 1] = n_inst;
+    }
+    free(mask);
+    free(mark);
+    return 0;
+fail:
+    free(mask);
+    free(mark);
+    return -1;
 }
 
 static int plan_set_again(me_master *M)
@@ -1079,7 +1236,8 @@ static int allocate(me_master *M)
     M->pending_value = zeros(s->n_couplings);
     if (!M->sent || !M->read || !M->pending_vr || !M->pending_value) return -1;
     if (plan_allocate(&M->between, s->n_couplings) ||
-        plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M))
+        plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M) ||
+        plan_local(M))
         return -1;
     M->row = zeros(width);
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->fd2 || !M->x_before
@@ -1122,6 +1280,9 @@ static void release(me_master *M)
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
     free(M->row_instance); free(M->set_again);
+    if (M->local)
+        for (i = 0; i < M->n; i++) plan_free(&M->local[i]);
+    free(M->local); free(M->local_start); free(M->local_instance);
     free(M->pending_vr); free(M->pending_value);
 }
 
@@ -1153,6 +1314,20 @@ static const char *spec_defect(const eng_me_spec *s)
             g->n_indicators < 0 ||
             g->first_indicator + g->n_indicators > s->instances[g->instance].n_event_indicators)
             return "an event group names an instance or indicators out of range";
+    }
+    if (s->indicator_start) {
+        if (!s->indicator_coupling || s->indicator_start[0] != 0)
+            return "indicator_start must start at 0, with indicator_coupling";
+        for (k = 0; k < s->n_instances; k++) {
+            int a, first = s->indicator_start[k], end = s->indicator_start[k + 1];
+            /* at most every coupling once per instance, in order: plan_local sizes by it */
+            if (end < first || end - first > s->n_couplings)
+                return "indicator_start must not decrease, nor list more than every coupling";
+            for (a = first; a < end; a++)
+                if (s->indicator_coupling[a] < 0 || s->indicator_coupling[a] >= s->n_couplings ||
+                    (a > first && s->indicator_coupling[a] <= s->indicator_coupling[a - 1]))
+                    return "indicator_coupling: couplings out of range or not increasing";
+        }
     }
     return NULL;
 }

@@ -32,6 +32,8 @@ typedef struct {
     eng_progress_fn fn;
     void *ctx;
     double next_wall; /* seconds on the monotonic clock */
+    double last_read; /* when the clock was last read */
+    int stride, skipped; /* the clock is read on every stride-th check */
 } eng_progress;
 
 void eng_progress_start(eng_progress *p, eng_progress_fn fn, void *ctx);

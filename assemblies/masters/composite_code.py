@@ -1,0 +1,308 @@
+"""The composite FMU's model functions as loops over the members of each kind.
+
+Flattened into one SX expression, a joined assembly generates C whose functions grow
+with the whole assembly (a 32-block chain: 108,000 lines, one ``mf_out`` of 30,000, with
+thousands of locals), and gcc's time on such functions grows faster than their length
+(n = 16: 7 s, n = 32: 24 s, n = 64: over ten minutes). One call per member instead of
+one expression changes nothing: CasADi writes every call out, and the functions stay
+as long. (Small assemblies keep the flattened expression: FLAT_LIMIT.)
+
+So each member's equations become small SX functions (its derivatives, each output,
+its indicators, its jumps), one per *kind*: members whose equations are the same up to
+parameter values (a chain's blocks) share them. The composite's functions are MX
+graphs in which each kind's function is ``map``-ped over its members (a loop in the C),
+its arguments gathered from one vector of values by index tables (data, not code):
+
+    V = [0, t, x, q, u, p, outputs of level 1, outputs of level 2, ...]
+
+An output of level L depends, through the inputs it uses, only on outputs of lower
+levels (level 0: states, modes, parameters, open inputs); the connections are resolved
+as :func:`.monolithic.join` resolves them (a connected input is ``gain *`` its source),
+and an input an output does not depend on is given slot 0 (zero), so that one member's
+acceleration output feeding another's unused input is no loop. The code then grows with
+the number of kinds and levels, the tables with the members. CasADi's AD of the maps
+gives ``jac`` and ``dd``. The flattened SX model stays the reference: the same values,
+compared in tests/unit/test_composite_code.py.
+"""
+from __future__ import annotations
+
+import bisect
+from collections import defaultdict
+
+from components.lazy import lazy
+
+ca = lazy("casadi")
+
+
+class _Kinds:
+    """One SX function per distinct member equation: members that differ only in their
+    parameter values share it."""
+
+    def __init__(self):
+        self.by_key: dict[str, ca.Function] = {}
+
+    def function(self, what: str, member, outputs: list) -> ca.Function:
+        outputs = [ca.densify(o) for o in outputs]
+        key = what + ca.Function("kind", member.args, outputs).serialize()
+        if key not in self.by_key:
+            self.by_key[key] = ca.Function(f"mf_kind{len(self.by_key)}_{what}", member.args,
+                                           outputs)
+        return self.by_key[key]
+
+
+class _Values:
+    """The vector V of the module doc, kept as its parts: slots are handed out in order,
+    and a gather reads each part it needs directly (concatenating V at every level
+    would copy all of it each time: most of a small composite's run time)."""
+
+    def __init__(self, head: list):
+        self.parts, self.firsts, self.size = [], [], 0
+        for block in head:
+            self.add(block)
+
+    def add(self, block: ca.MX) -> int:
+        """Append the column-major entries of `block`; the slot of its first entry."""
+        first = self.size
+        self.parts.append(ca.vec(block))
+        self.firsts.append(first)
+        self.size += block.numel()
+        return first
+
+    def gather(self, rows: list[int]) -> ca.MX:
+        """V[rows] as an MX column."""
+        pieces: dict[int, list[tuple[int, int]]] = defaultdict(list)  # part -> (offset, position)
+        for pos, r in enumerate(rows):
+            k = bisect.bisect_right(self.firsts, r) - 1
+            pieces[k].append((r - self.firsts[k], pos))
+        order, blocks = [], []
+        for k in sorted(pieces):
+            offsets = [o for o, _ in pieces[k]]
+            part = self.parts[k]
+            blocks.append(part if offsets == list(range(part.numel())) else ca.vec(part[offsets]))
+            order += [pos for _, pos in pieces[k]]
+        v = ca.vertcat(*blocks)
+        if order != list(range(len(rows))):
+            inverse = [0] * len(order)
+            for i, pos in enumerate(order):
+                inverse[pos] = i
+            v = ca.vec(v[inverse])
+        return v
+
+
+# Below this many SX instructions (derivatives, outputs, indicators, jumps) the flattened
+# expression is kept: gcc builds it in seconds (a 16-block chain, 17,000 instructions:
+# 7 s; 32 blocks, 35,000: 24 s; then minutes), and its straight-line C runs 2-2.5x
+# faster than the maps' gathers and calls on small assemblies (two_block_belt, 1,700:
+# 1.5 against 3.2 ms at tolerance 1e-5). Every scene of the library is below it.
+FLAT_LIMIT = 20_000
+
+
+def worth_mapping(model) -> bool:
+    """Whether the flattened `model` is too large to compile as one expression."""
+    from fmus.codegen import computed_outputs
+    whole = ca.Function("size", model.args, [model.xdot, computed_outputs(model), model.z,
+                                             model.jump_x, model.jump_q])
+    return whole.n_instructions() > FLAT_LIMIT
+
+
+def member_functions(joined, model) -> dict:
+    """The composite's ``ode``, ``out``, ``zc``, ``jump``, ``jac`` and ``dd`` (keys of
+    fmus.codegen) as MX functions of the flattened composite `model`'s arguments, or {}
+    when a variable of `model` has no member counterpart (then the flattened functions
+    are used as they are)."""
+    members = joined.members
+    names = {key: [v.name for v in getattr(model, attr)] for key, attr in
+             (("x", "states"), ("q", "modes"), ("u", "inputs"), ("p", "parameters"))}
+    t = ca.MX.sym("t")
+    args = {k: ca.MX.sym(k, len(names[k])) for k in ("x", "q", "u", "p")}
+    # slot 0 is a zero: the value of an input an output does not depend on
+    values = _Values([ca.MX(ca.DM.zeros(1)), t])
+    slot: dict[tuple[str, str], int] = {}
+    for key in ("x", "q", "u", "p"):
+        first = values.add(args[key])
+        for i, full in enumerate(names[key]):
+            inst, _, var = full.partition(".")
+            slot[(inst, var)] = first + i
+    for name, m in members.items():
+        for v in (*m.states, *m.modes, *m.parameters):
+            if (name, v.name) not in slot:
+                return {}
+    for inst, var in joined.open_inputs:
+        if (inst, var) not in slot:
+            return {}
+    y_names = [v.name.partition(".")[::2] for v in model.outputs]
+    if any(inst not in members for inst, _ in y_names) or \
+            sum(m.z.numel() for m in members.values()) != model.z.numel():
+        return {}
+
+    feeds = {c.target: c for c in joined.couplings}
+    kinds = _Kinds()
+
+    # --- where each member input comes from: (level-resolved source, gain) ------------
+    level: dict[tuple[str, str], int] = {}   # member output -> its level
+    uses: dict[tuple[str, int], list[int]] = {}  # (member, output j) -> inputs it uses
+
+    def used_inputs(name, j):
+        if (name, j) not in uses:
+            m = members[name]
+            uses[(name, j)] = [i for i in range(m.u.numel()) if ca.depends_on(m.y[j], m.u[i])]
+        return uses[(name, j)]
+
+    def source(name, var):
+        """(instance, variable, gain) a member input reads, through inputs fed by inputs."""
+        gain = 1.0
+        while (name, var) not in joined.open_inputs and (name, var) in feeds:
+            c = feeds[(name, var)]
+            gain *= c.gain
+            name, var = c.source
+            if var not in [v.name for v in members[name].inputs]:
+                break
+        return name, var, gain
+
+    def level_of(name, var):
+        outputs = [v.name for v in members[name].outputs]
+        if var not in outputs or (name, var) in slot:
+            return 0
+        if (name, var) not in level:
+            j = outputs.index(var)
+            inputs = members[name].inputs
+            level[(name, var)] = 1 + max(
+                (level_of(*source(name, inputs[i].name)[:2]) for i in used_inputs(name, j)),
+                default=0)
+        return level[(name, var)]
+
+    wanted = {(inst, var) for inst, var in y_names}
+    for name, m in members.items():  # every input of every member is read by ode/zc/jump
+        for v in m.inputs:
+            if (name, v.name) not in slot:
+                wanted.add(source(name, v.name)[:2])
+    # the outputs of a member that use the same inputs are one function (they share the
+    # work, a friction block's acceleration, support force and friction power), evaluated
+    # for every member once any of them is wanted
+    group_of: dict[tuple[str, int], tuple] = {}
+    for inst in {inst for inst, _ in wanted}:
+        m = members[inst]
+        same: dict[tuple, list[int]] = defaultdict(list)
+        for j in range(m.y.numel()):
+            same[tuple(used_inputs(inst, j))].append(j)
+        for used, js in same.items():
+            for j in js:
+                group_of[(inst, j)] = (tuple(js), used)
+    by_level: dict[int, dict] = defaultdict(lambda: defaultdict(list))
+    for inst, var in wanted:
+        if (inst, var) not in slot:
+            outputs = [v.name for v in members[inst].outputs]
+            if var not in outputs:
+                return {}
+            js, used = group_of[(inst, outputs.index(var))]
+            m = members[inst]
+            fn = kinds.function("y" + "_".join(map(str, js)), m, [ca.vertcat(*[m.y[j] for j in js])])
+            if inst not in by_level[level_of(inst, var)][(fn, js, used)]:
+                by_level[level_of(inst, var)][(fn, js, used)].append(inst)
+
+    def gather(rows: list[int], gains: list[float], shape) -> ca.MX:
+        if not rows:
+            return ca.MX(*shape)
+        v = values.gather(rows)
+        if any(g != 1.0 for g in gains):
+            v = v * ca.DM(gains)
+        return ca.reshape(v, *shape)
+
+    def call(fn, insts, u_rows) -> ca.MX:
+        """`fn` mapped over `insts`, the inputs from `u_rows(inst)` -> [(slot, gain)]."""
+        k = len(insts)
+        x, q, p, u, gains = [], [], [], [], []
+        for inst in insts:
+            m = members[inst]
+            x += [slot[(inst, v.name)] for v in m.states]
+            q += [slot[(inst, v.name)] for v in m.modes]
+            p += [slot[(inst, v.name)] for v in m.parameters]
+            for s, g in u_rows(inst):
+                u.append(s)
+                gains.append(g)
+        m = members[insts[0]]
+        ins = [t, gather(x, [1.0] * len(x), (m.x.numel(), k)),
+               gather(q, [1.0] * len(q), (m.q.numel(), k)),
+               gather(u, gains, (m.u.numel(), k)), gather(p, [1.0] * len(p), (m.p.numel(), k))]
+        return fn.map(k)(*ins)
+
+    def input_rows(inst, used=None):
+        rows = []
+        for i, v in enumerate(members[inst].inputs):
+            if used is not None and i not in used:
+                rows.append((0, 1.0))
+                continue
+            if (inst, v.name) in slot:  # open: the composite's own input
+                rows.append((slot[(inst, v.name)], 1.0))
+                continue
+            src, var, gain = source(inst, v.name)
+            rows.append((slot[(src, var)], gain))
+        return rows
+
+    for lvl in sorted(by_level):
+        for (fn, js, used), insts in by_level[lvl].items():
+            first = values.add(call(fn, insts, lambda inst, used=used: input_rows(inst, used)))
+            for c, inst in enumerate(insts):
+                for r, j in enumerate(js):
+                    slot[(inst, members[inst].outputs[j].name)] = first + c * len(js) + r
+
+    # --- derivatives, indicators, jumps: every kind mapped over its members ------------
+    groups: dict[tuple, list[str]] = defaultdict(list)
+    for name, m in members.items():
+        groups[(kinds.function("ode", m, [m.xdot]) if m.x.numel() else None,
+                kinds.function("zc", m, [m.z]) if m.z.numel() else None,
+                kinds.function("jump", m, [m.jump_x, m.jump_q])
+                if m.x.numel() or m.q.numel() else None)].append(name)
+    xdot_at, z_at, x_new_at, q_new_at = {}, {}, {}, {}
+    for (ode, zc, jump), insts in groups.items():
+        rows = input_rows
+        if ode is not None:
+            first = values.add(call(ode, insts, rows))
+            _place(xdot_at, first, insts, lambda i: members[i].states, slot, "x")
+        if zc is not None:
+            first = values.add(call(zc, insts, rows))
+            for c, inst in enumerate(insts):
+                n = members[inst].z.numel()
+                z_at[inst] = list(range(first + c * n, first + (c + 1) * n))
+        if jump is not None:
+            jx, jq = call(jump, insts, rows)
+            if jx.numel():
+                _place(x_new_at, values.add(jx), insts, lambda i: members[i].states, slot, "x")
+            if jq.numel():
+                _place(q_new_at, values.add(jq), insts, lambda i: members[i].modes, slot, "q")
+    x_index = {full: i for i, full in enumerate(names["x"])}
+    q_index = {full: i for i, full in enumerate(names["q"])}
+
+    def pick(rows):
+        return ca.densify(values.gather(rows)) if rows else ca.MX(0, 1)
+
+    xdot_rows = [xdot_at[full] for full in sorted(xdot_at, key=x_index.__getitem__)]
+    x_new_rows = [x_new_at.get(full, slot[tuple(full.split(".", 1))]) for full in names["x"]]
+    q_new_rows = [q_new_at.get(full, slot[tuple(full.split(".", 1))]) for full in names["q"]]
+    if len(xdot_rows) != len(names["x"]) or len(q_index) != len(q_new_rows):
+        return {}
+    XDOT = pick(xdot_rows)
+    Y = pick([slot[key] for key in y_names])
+    Z = pick([r for name in members for r in z_at.get(name, [])])
+    ins, arg_names = [t, args["x"], args["q"], args["u"], args["p"]], ["t", "x", "q", "u", "p"]
+    unknowns, knowns = ca.vertcat(XDOT, Y, Z), ca.vertcat(args["x"], args["u"])
+    dd = ca.jacobian(unknowns, knowns) if knowns.numel() else ca.MX(unknowns.numel(), 0)
+    return {
+        "ode": ca.Function("mf_ode", ins, [XDOT], arg_names, ["xdot"]),
+        "out": ca.Function("mf_out", ins, [ca.densify(ca.vertcat(Y, Z))], arg_names, ["y"]),
+        "zc": ca.Function("mf_zc", ins, [Z], arg_names, ["z"]),
+        "jump": ca.Function("mf_jump", ins, [pick(x_new_rows), pick(q_new_rows)], arg_names,
+                            ["x_new", "q_new"]),
+        "jac": ca.Function("mf_jac", ins, [ca.densify(ca.jacobian(XDOT, args["x"]))], arg_names,
+                           ["jac"]),
+        "dd": ca.Function("mf_dd", ins, [dd], arg_names, ["dd"]),
+    }
+
+
+def _place(where: dict, first: int, insts: list[str], variables, slot, key) -> None:
+    """Record the slot of each member variable's result in a mapped block (column-major:
+    member c's rows follow c * rows)."""
+    for c, inst in enumerate(insts):
+        vs = variables(inst)
+        for i, v in enumerate(vs):
+            where[f"{inst}.{v.name}"] = first + c * len(vs) + i
