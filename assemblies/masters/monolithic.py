@@ -67,6 +67,7 @@ class JoinedModel:
     open_inputs: list[tuple[str, str]]   # (instance, input) in u order
     terminate: list[tuple[int, str, str]]  # (index in q, instance, message)
     couplings: tuple = ()  # the assembly's resolved couplings (source -> target, gain)
+    looped: frozenset = frozenset()  # inputs on an algebraic loop, solved in the join
 
 
 def join(assembly: Assembly) -> JoinedModel:
@@ -90,7 +91,7 @@ def join(assembly: Assembly) -> JoinedModel:
 
     tables = {name: symbol_table(m) for name, m in members.items()}
     feeds = {c.target: c for c in couplings}
-    resolved = _resolve_couplings(assembly, members, tables, feeds)
+    resolved, looped = _resolve_couplings(assembly, members, tables, feeds)
 
     # one substitution per member: its time, and its connected inputs by their sources
     open_inputs, u_syms, u0 = [], [], []
@@ -132,18 +133,19 @@ def join(assembly: Assembly) -> JoinedModel:
         u0=np.array(u0, dtype=float),
         p0=np.concatenate([[v.start for v in m.parameters] for m in members.values()] + [[]]),
         members=members, outputs=outputs, owner_of_indicator=owners,
-        open_inputs=open_inputs, terminate=terminate, couplings=tuple(couplings))
+        open_inputs=open_inputs, terminate=terminate, couplings=tuple(couplings),
+        looped=frozenset(looped))
 
 
-def _resolve_couplings(assembly, members, tables, feeds) -> dict:
-    """Every connected input as an expression in states, modes, parameters, time and open
+def _resolve_couplings(assembly, members, tables, feeds) -> tuple[dict, set]:
+    """(every connected input as an expression in states, modes, parameters, time and open
     inputs: its source's output, with the source's own connected inputs substituted,
     recursively. Inputs on a cycle of direct feedthrough (two inertias held together by
     a gear or a locked clutch: each one's acceleration needs the torque the other's
     acceleration sets) are an algebraic loop; mechanical loops are linear in the loop's
     inputs for given modes, so they are solved here, once per combination of the modes
     the loop's coefficients depend on, and selected by mode (as flatten() solves one
-    component's equations).
+    component's equations); and the inputs on a loop).
     """
     def reads(target):  # the fed inputs `target`'s source output reads directly
         inst, var = feeds[target].source
@@ -174,11 +176,11 @@ def _resolve_couplings(assembly, members, tables, feeds) -> dict:
     for target in feeds:
         resolve(target)
     if not holders:
-        return resolved
+        return resolved, looped
     unknowns = ca.vertcat(*holders.values())
     residual = ca.vertcat(*[holders[t] - resolved[t] for t in holders])
     solution = _solve_loop(assembly, members, residual, unknowns, list(holders))
-    return {t: ca.substitute(expr, unknowns, solution) for t, expr in resolved.items()}
+    return {t: ca.substitute(expr, unknowns, solution) for t, expr in resolved.items()}, looped
 
 
 def _on_cycles(graph: dict) -> set:
@@ -410,9 +412,12 @@ class Composite(Component):
 
     def vectorised_functions(self, model) -> dict:
         # a large assembly: one function per member kind, mapped over the members, so
-        # that the C grows with the kinds, not with the flattened expression
+        # that the C grows with the kinds, not with the flattened expression; a loop is
+        # solved across members in the join, which no member's own function can express
         from .composite_code import member_functions, worth_mapping
-        return member_functions(self.joined, model) if worth_mapping(model) else {}
+        if self.joined.looped or not worth_mapping(model):
+            return {}
+        return member_functions(self.joined, model)
 
     def equations(self, e):
         m = self.joined
