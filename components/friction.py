@@ -37,7 +37,9 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
                              ca.if_else(applied <= -static_limit, -1, 0))
     stopped = ca.logic_and(q != 0, q * v <= 0)
     v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
-    e.jump(speed, base + v_new)
+    # the state is rewritten only when the slide ends: base + (state - base) rounds, and a
+    # stuck neighbour (its base this state) would read the rounding as a relative speed
+    e.jump(speed, ca.if_else(stopped, base, getattr(e.x, speed)))
     e.jump(mode, ca.if_else(ca.logic_or(stopped, q == 0),
                             ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
 

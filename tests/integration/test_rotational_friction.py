@@ -177,3 +177,38 @@ def test_the_monolithic_master_solves_the_loop_of_a_locked_clutch():
             t = np.asarray(res["time"])[1:]
             np.testing.assert_allclose(res["J1.w"][1:], (tau - 10.0) * t, atol=1e-9)
             np.testing.assert_allclose(res["clutch.w"][1:], 10.0 / 3.0 * t, atol=1e-9)
+
+
+@pytest.mark.parametrize("engine", ("reference", "c"))
+def test_a_locked_clutch_behind_a_sliding_one_stays_locked(engine):
+    """J1 spinning free at W1, the clutches' driven sides J2 and J3 at w0 < W1: clutch1
+    slides with torque T = cgeo mu fn, and clutch2 (engaged, carrying J3 T / (J2 + J3),
+    far below its limit) holds J2 and J3 together, so J1 runs down at T / J1 and J2 = J3
+    speed up at T / (J2 + J3) (run until just before clutch1 would lock). In floating
+    point W1 + (w0 - W1) != w0 (10.1, 0.01): a jump that rewrote J2's speed that way
+    when clutch1 started sliding made clutch2 read the rounding as a relative speed,
+    slide, stop at once and chatter near t = 0 (issue 28, the nudged CoupledClutches)."""
+    from assemblies.masters.monolithic import simulate_monolithic as reference
+    from components.rotational.rigid import Inertia
+    W1, w0, J1, J2, J3, mu, cgeo, fn = 10.1, 0.01, 1.0, 1.0, 1.0, 0.5, 1.0, 2.0
+    asm = Assembly("held")
+    asm.add("J1", Inertia(J=J1, w=W1))
+    asm.add("on", Constant(k=1.0))
+    asm.add("clutch1", Clutch(J=J2, w=w0, cgeo=cgeo, fn_max=fn, **{"mu_pos[1,2]": mu}))
+    asm.add("clutch2", Clutch(J=J3, w=w0, cgeo=cgeo, fn_max=10 * fn, **{"mu_pos[1,2]": mu}))
+    asm.connect("J1.flange_b", "clutch1.flange_a")
+    asm.connect("clutch1.flange_b", "clutch2.flange_a")
+    asm.connect("on.y", "clutch1.f_normalized")
+    asm.connect("on.y", "clutch2.f_normalized")
+    T = cgeo * mu * fn
+    stop = 0.9 * (W1 - w0) / (T / J1 + T / (J2 + J3))  # clutch1 locks at 1 / 0.9 of it
+    record = ["J1.w", "clutch1.w", "clutch2.w", "clutch1.mode", "clutch2.mode"]
+    run = reference if engine == "reference" else simulate_monolithic
+    res = run(asm, stop, stop / 10, TOL, record=record)
+    t = np.asarray(res["time"])
+    assert np.all(np.asarray(res["clutch1.mode"]) == -1)
+    assert np.all(np.asarray(res["clutch2.mode"]) == 0)
+    assert "clutch2" not in res.events  # no event of clutch2: it never left its lock
+    np.testing.assert_array_equal(res["clutch2.w"], res["clutch1.w"])
+    np.testing.assert_allclose(res["clutch1.w"], w0 + T / (J2 + J3) * t, atol=ACC * W1)
+    np.testing.assert_allclose(res["J1.w"], W1 - T / J1 * t, atol=ACC * W1)
