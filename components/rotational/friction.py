@@ -58,13 +58,21 @@ class _TableFriction(Component):
         if rows is None:
             raise ComponentError(f"{type(self).__name__} '{name or type(self).__name__}': option "
                                  f"rows is not allowed; rows must be {_ROWS.allowed()}")
-        label, unit, what, default = self.table
-        self.parameters = (*[Parameter(f"{label}[{k},{j}]", v, u, f"{d} of row {k}")
-                             for k in range(1, rows + 1)
-                             for j, v, u, d in ((1, k - 1.0, "rad/s", "relative speed"),
-                                                (2, default, unit, what))],
-                           *self.fixed_parameters)
+        self.parameters = self._parameters_for(rows)
         super().__init__(name, profile, rows=rows, **values)
+
+    def _parameters_for(self, rows: int) -> tuple[Parameter, ...]:
+        label, unit, what, default = self.table
+        return (*[Parameter(f"{label}[{k},{j}]", v, u, f"{d} of row {k}")
+                  for k in range(1, rows + 1)
+                  for j, v, u, d in ((1, k - 1.0, "rad/s", "relative speed"),
+                                     (2, default, unit, what))],
+                *self.fixed_parameters)
+
+    def set(self, key: str, value) -> None:
+        super().set(key, value)
+        if key == "rows":  # set after construction (--param clutch.rows=2): the table grows
+            self.resize_parameters(self._parameters_for(self.option("rows")))
 
     options = (_ROWS,)
     modes = _MODE

@@ -153,6 +153,19 @@ def test_a_friction_table_must_rise():
         Brake("b", rows=2, **{"mu_pos[2,1]": 0.0})
 
 
+def test_rows_set_after_construction_sizes_the_table():
+    """`--param clutch.rows=2` sets the option on a built instance: the table gets its
+    second row (speed 1 rad/s by default, MSL's value), the first keeps what was set,
+    and shrinking drops the row again; a value for the new row is then accepted."""
+    c = Clutch("c", **{"mu_pos[1,2]": 0.3})
+    c.set("rows", 2)
+    c.set("mu_pos[2,2]", 0.2)
+    c.validate()
+    assert (c.values["mu_pos[1,2]"], c.values["mu_pos[2,1]"], c.values["mu_pos[2,2]"]) == (0.3, 1.0, 0.2)
+    c.set("rows", 1)
+    assert "mu_pos[2,1]" not in c.values and c.values["mu_pos[1,2]"] == 0.3
+
+
 def test_the_monolithic_master_solves_the_loop_of_a_locked_clutch():
     """J1 driven by a torque, the clutch's driven side J2 locked to it: one body, so
     both accelerate at tau / (J1 + J2) and the clutch carries J2 tau / (J1 + J2); with a
