@@ -34,6 +34,10 @@ _CC = CoupledClutches()
 _CLUTCHES = ("clutch1", "clutch2", "clutch3")
 
 
+# where every figure's reference comes from
+SOURCE = "independent integration (event-driven scipy of MSL's documented clutch law)"
+
+
 def _coupled_clutches() -> Assembly:
     m = _CC
     asm = Assembly("coupled_clutches")
@@ -89,18 +93,21 @@ def _coupled_clutches_figures(result: Result, asm: Assembly) -> list[Figure]:
         expected = [(t, q) for t, c, q in ref.events if c == k]
         measured = mode_changes(result, name)
         figures.append(Figure(f"{name}_events", f"lock and break-away events of {name} [1]",
-                              len(measured), len(expected), 0.0))
+                              len(measured), len(expected), 0.0,
+                              source=SOURCE))
         for n, (t_ref, q_ref) in enumerate(expected):
             kind = "locks" if q_ref == 0 else "breaks away"
             got = [t for t, q in measured[n:n + 1] if q == q_ref]  # the same change, in order
             figures.append(Figure(f"{name}_{n + 1}", f"{name} {kind} at [s]",
                                   got[0] if got else math.nan, t_ref,
-                                  solver_accuracy(result, 1.0)))
+                                  solver_accuracy(result, 1.0),
+                                  source=SOURCE))
     w_end = ref.w[-1]
     for k, column in enumerate(("J1.w", "clutch1.w", "clutch2.w", "clutch3.w")):
         figures.append(Figure(f"w{k + 1}_end", f"J{k + 1}.w at {_CC.stop:g} s [rad/s]",
                               float(result[column][-1]), float(w_end[k]),
-                              solver_accuracy(result, w_end[k])))
+                              solver_accuracy(result, w_end[k]),
+                              source=SOURCE))
     return figures
 
 
