@@ -444,10 +444,11 @@ def main(argv: list[str] | None = None) -> int:
 #: into one model whose CasADi code generation and gcc build grow with n
 SCENE_PARAMETERS = (
     SceneParameter("n", SCENE_CHAIN["n"], 1, 100_000, "1", "number of blocks", integer=True,
-                   most={"me": (300, "one FMU instance per block and per link: "
-                                     "n = 300 takes about 60 s here"),
+                   most={"me": (200, "one FMU instance per block and per link: here "
+                                     "n = 100 took 15 s, n = 300 93 s (wall)"),
                          "monolithic": (30, "the joined model's CasADi code and gcc build "
-                                            "grow with n: n = 30 takes about 60 s here"),
+                                            "grow with n: n = 30 took 9 s here, more is "
+                                            "untried"),
                          "cosim": (SCIPY_N, "co-simulation couples every block at every "
                                             "communication step; run me or fault")}),
     SceneParameter("ell", SCENE_CHAIN["ell"], 0.0, 1e3, "1",
