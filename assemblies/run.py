@@ -250,8 +250,8 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
         common["jacobian"] = jacobian
     if own is not None:
         if engine != "c":
-            raise AssemblyError(f"mode '{mode}' is scene '{name}''s own solver, which has no "
-                                f"engine '{engine}'; leave --engine out")
+            raise AssemblyError(f"mode '{mode}' runs scene '{name}' with a solver of its "
+                                f"own, which has no engine '{engine}'; leave --engine out")
         result = own(run_asm, arguments, **common)
     elif mode == "cosim" and single_fmu:
         # one FMU and nothing to couple: no communication step to choose, so its solver

@@ -439,25 +439,27 @@ def main(argv: list[str] | None = None) -> int:
 
 
 #: the scene's parameters (--param NAME=VALUE): its chain's shape and the run's length
-#: in events. me and monolithic are bounded by the runs measured here: a Model Exchange
-#: run loads one FMU instance per block and per link; a monolithic run joins them all
-#: into one model whose CasADi code generation and gcc build grow with n
+#: in events. The FMU masters are bounded by runs measured here (2 loaded cores, FMUs
+#: cached): me loads one FMU instance per block and per link, and the causality search
+#: recurses once per instance, past Python's stack beyond ~1000 instances (n = 330);
+#: monolithic builds the joined model anew for each n
 SCENE_PARAMETERS = (
     SceneParameter("n", SCENE_CHAIN["n"], 1, 100_000, "1", "number of blocks", integer=True,
-                   most={"me": (200, "one FMU instance per block and per link: here "
-                                     "n = 100 took 15 s, n = 300 93 s (wall)"),
-                         "monolithic": (30, "the joined model's CasADi code and gcc build "
-                                            "grow with n: n = 30 took 9 s here, more is "
-                                            "untried"),
-                         "cosim": (SCIPY_N, "co-simulation couples every block at every "
-                                            "communication step; run me or fault")}),
+                   most={"me": (300, "its causality search recurses once per instance, "
+                                     "3n of them, and overflows beyond n = 330; n = 300 "
+                                     "took 12 s here; run mode fault"),
+                         "monolithic": (250, "the joined model's CasADi code and gcc build "
+                                             "grow with n: n = 250 took 34 s here, n = 300 "
+                                             "66 s; run mode fault"),
+                         "cosim": (100, "every block is coupled at every communication "
+                                        "step: n = 100 took 34 s here; run mode fault")}),
     SceneParameter("ell", SCENE_CHAIN["ell"], 0.0, 1e3, "1",
                    "coupling/leaf stiffness ratio sqrt(kc/kp), kp = 1"),
     SceneParameter("alpha", SCENE_CHAIN["alpha"], 0.0, 1e3, "1",
                    "velocity weakening, Carlson & Langer's alpha"),
     SceneParameter("sigma", SCENE_CHAIN["sigma"], 1e-6, 0.999, "1",
                    "drop from static to kinetic friction at the onset of slip, / F0"),
-    SceneParameter("nu", SCENE_CHAIN["nu"], 0.0, 1e3, "1", "plate speed, / vw"),
+    SceneParameter("nu", SCENE_CHAIN["nu"], 1e-6, 1e3, "1", "plate speed, / vw"),
     SceneParameter("heterogeneity", SCENE_CHAIN["heterogeneity"], 0.0, 0.999, "1",
                    "thresholds F0 (1 + h u), u uniform in [-1, 1]"),
     SceneParameter("seed", SCENE_CHAIN["seed"], 0, 2**31 - 1, "1",

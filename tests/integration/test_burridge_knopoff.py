@@ -175,3 +175,12 @@ def test_mode_fault_is_refused_by_scenes_without_it():
     with pytest.raises(AssemblyError, match="scene 'stick_slip' has no parameter 'n' "
                                             r"\(it has none"):
         run_scene_full("stick_slip", params={"n": 3})
+
+
+def test_mode_fault_refuses_what_it_has_not():
+    from assemblies.assembly import AssemblyError
+    with pytest.raises(AssemblyError, match="mode 'fault' runs scene 'burridge_knopoff' with a "
+                                            "solver of its own, which has no engine 'fmpy'"):
+        run_scene_full("burridge_knopoff", mode="fault", engine="fmpy")
+    with pytest.raises(FaultError, match="from rest at t = 0"):
+        run_scene_full("burridge_knopoff", mode="fault", start_time=1.0)
