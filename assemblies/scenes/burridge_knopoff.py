@@ -9,11 +9,14 @@ The scene (n = 2, in ``me``, ``monolithic`` or ``cosim``) runs the chain as FMUs
 holds its slides to an independent scipy integration of the equations
 (:mod:`.fault_references`) and its first break-away to the closed form; beside it the
 event-driven fault solver (:mod:`assemblies.engine.fault`) runs the same values, held
-to the same reference and to the energy balance. Another length or other values run
-the same way: ``run_scene_full(dataclasses.replace(scene("burridge_knopoff"),
-build=lambda: fault_chain(6, ...)), mode="me")``. Large chains (n up to 1e5 and more)
-are the fault solver's alone: :func:`fault_study` runs one, measures the size
-distribution against Carlson & Langer's scaling and draws the catalogue;
+to the same reference and to the energy balance. Another length or other values are
+the scene's parameters (SCENE_PARAMETERS): ``mechfmu run burridge_knopoff --param n=6
+--param ell=1``. Mode ``fault`` runs the chain in the fault solver alone, its event
+catalogue as the result table, held to the energy balance, to scipy's slides for n <=
+SCIPY_N and, on long chains, to Carlson & Langer's b: ``mechfmu run burridge_knopoff
+--mode fault --param n=1000 --param ell=10 --param sigma=0.01 --param nu=0.01 --param
+events=20000``; the FMU modes refuse an n beyond what they run here in under a minute.
+:func:`fault_study` adds a warm-up and runs the C&L model (no backward slides):
 ``python -m assemblies.scenes.burridge_knopoff --n 1000 --events 10000 --out DIR``.
 """
 from __future__ import annotations

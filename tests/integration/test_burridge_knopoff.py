@@ -184,3 +184,15 @@ def test_mode_fault_refuses_what_it_has_not():
         run_scene_full("burridge_knopoff", mode="fault", engine="fmpy")
     with pytest.raises(FaultError, match="from rest at t = 0"):
         run_scene_full("burridge_knopoff", mode="fault", start_time=1.0)
+
+
+def test_a_run_file_repeats_the_scene_parameters(tmp_path):
+    """The run file records n and the chain's values: --from rebuilds the same chain and
+    the fault solver gives the same catalogue."""
+    from assemblies import rerun
+    first = run_scene_full("burridge_knopoff", mode="fault", params={"n": 20, "events": 100},
+                           out=tmp_path, plot=False)
+    again = rerun(tmp_path / "burridge_knopoff.json")
+    assert again.record["run"]["params"] == {"n": 20, "events": 100}
+    assert np.array_equal(again.result["event.moment"], first.result["event.moment"])
+    assert sum(k.startswith("block") for k in again.result.assembly.components) == 20
