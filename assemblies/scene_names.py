@@ -136,5 +136,8 @@ SCENE_INDEX = {
     'translational_preload': ('msl_translational',
         'MSL Translational.Examples.PreLoad: a spool held by two preloaded ElastoGap '
         'stops until a slow sine force overcomes the preload'),
+    'coupled_clutches': ('msl_rotational',
+        'MSL Rotational.Examples.CoupledClutches: four inertias, three clutches engaging '
+        'and releasing in turn (exact lock/break-away events)'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

@@ -12,8 +12,9 @@ scene and mode (cosim, me, monolithic) the runs are, over a short stop time:
 - ``aliases``: every start-value alias at once, where the scene has any;
 - one run per option value that is not the scene's own (string options: every value;
   integer options: their least and largest value and any word they take, such as
-  n_modes='auto'; --quick: the least value and the words), and one per FMU solver
-  setting, on every instance at once; --quick runs these in the scene's own mode only.
+  n_modes='auto'; --quick: the least value other than the default, and the words), and
+  one per FMU solver setting, on every instance at once; --quick runs these in the
+  scene's own mode only.
 
 A run passes when it returns a result (its figures may fail: the physics changed) or is
 refused with one line: a MechfmuError whose message is a single line. Anything else (a
@@ -91,13 +92,13 @@ def nudge(inst, name: str, value: float):
     return next((c for c in candidates + [value] if _accepts(inst, name, c)), None)
 
 
-def _option_values(option, quick: bool, current=None) -> list:
+def _option_values(option, quick: bool) -> list:
     if isinstance(option.choices, range):
         lo, hi = option.choices.start, option.choices.stop - 1
-        # quick: one value, the lowest unless the instance has it (then the name would
-        # go unset: a table of one row)
-        ends = [lo if lo != current else hi] if quick else [lo, hi]
-        return ends + list(getattr(option, "words", ()))
+        # quick: the least value other than the default (a default at the least value,
+        # a friction table's rows = 1, would otherwise leave the option untried)
+        least = lo if option.default != lo or hi == lo else lo + 1
+        return ([least] if quick else [lo, hi]) + list(getattr(option, "words", ()))
     if not option.choices:  # a number (the beam's accuracy): a valid one nearby
         number = float(option.default)
         return [number / 10 if option.parse(number / 10) is not None else number * 1.01]
@@ -128,7 +129,7 @@ def cases(sc, quick: bool = False) -> list[Case]:
                 if value is not None:
                     aliases[f"{name}.{key}"] = value
         for option in inst.options:
-            for value in _option_values(option, quick, inst.option(option.name)):
+            for value in _option_values(option, quick):
                 if value != inst.option(option.name):
                     optional.append(Case(f"{name}.{option.name}={value}",
                                          {f"{name}.{option.name}": value}))

@@ -34,7 +34,11 @@ _REGISTERED = (
     "Position", "Speed", "PositionSensor", "SpeedSensor", "ForceSensor", "TimeTable",
     "FaultBlock", "Constant", "Step", "Ramp", "Sine",
     "Fixed", "Mass", "Damper", "ElastoGap", "MassWithStopAndFriction",
-    "SupportFriction", "Brake", "Rod", "Junction")
+    "SupportFriction", "Brake", "Rod", "Junction",
+    "Inertia", "RotationalFixed", "IdealGear", "RotationalSpring", "RotationalDamper",
+    "RotationalSpringDamper", "Torque", "ConstantTorque", "QuadraticSpeedDependentTorque",
+    "RotationalSpeed", "RotationalPosition", "AngleSensor", "RotationalSpeedSensor",
+    "TorqueSensor", "RotationalPowerSensor", "BearingFriction", "RotationalBrake", "Clutch")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

@@ -60,6 +60,12 @@ class Block:
         known = ", ".join(p.name for p in self.profiles)
         raise ComponentError(f"{self._where()}: unknown profile '{name}'; known profiles: {known}")
 
+    def resize_parameters(self, parameters) -> None:
+        """Take `parameters` as this instance's (an option that sizes a table changed):
+        the values of names kept stay, new names start at their defaults."""
+        self.parameters = tuple(parameters)
+        self.values = {p.name: self.values.get(p.name, float(p.default)) for p in self.parameters}
+
     def fmu_starts(self) -> dict:
         """Every value set on this instance's FMU before it initialises, by name."""
         return {**self.values, **self.starts}

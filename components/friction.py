@@ -14,15 +14,18 @@ ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limit,
-                  kinetic_limit, mode: str = "mode") -> None:
+                  kinetic_limit, mode: str = "mode", base=0) -> None:
     """Write the residual, indicators and jumps of exact Coulomb friction.
 
     `speed` names the state holding the relative velocity (it is reset to exactly 0
     when a slide ends), `acceleration` is its derivative and `friction` the friction
     force or torque (both unknowns of `e`), `applied` everything but friction in the
-    contact's frame, and the limits are mu_s N and mu_k N (or torques).
+    contact's frame, and the limits are mu_s N and mu_k N (or torques). `base`: the
+    velocity of the other side of the contact when the state is an absolute velocity
+    (a clutch's driven side, its driver's speed an input): the relative velocity is
+    then ``state - base`` and a slide ends by setting the state to ``base``.
     """
-    q, v = getattr(e.q, mode), getattr(e.x, speed)
+    q, v = getattr(e.q, mode), getattr(e.x, speed) - base
     e.residual(ca.if_else(q == 0, acceleration, friction + kinetic_limit * q))
     e.indicator(ca.if_else(q == 0, static_limit - applied, q * v),
                 "stuck: static margin for forward slip; sliding: relative speed")
@@ -34,7 +37,9 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
                              ca.if_else(applied <= -static_limit, -1, 0))
     stopped = ca.logic_and(q != 0, q * v <= 0)
     v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
-    e.jump(speed, v_new)
+    # the state is rewritten only when the slide ends: base + (state - base) rounds, and a
+    # stuck neighbour (its base this state) would read the rounding as a relative speed
+    e.jump(speed, ca.if_else(stopped, base, getattr(e.x, speed)))
     e.jump(mode, ca.if_else(ca.logic_or(stopped, q == 0),
                             ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
 

@@ -367,7 +367,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         # every value set before initialisation (a foreign FMU's Strings too)
         keys = [(n, fmus[n], [*c.fmu_starts()]) for n, c in assembly.components.items()]
-        ordered = coupling_order(couplings, fmus)
+        ordered = coupling_order(couplings, fmus, assembly.name)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))
         if sum(1 for f in fmus.values() if f.n_event_indicators) >= LOCAL_EVENTS_FROM:

@@ -137,14 +137,15 @@ def solve_loop(group, couplings, get_input, set_input, get_output, partial, *,
 __all__ = ["LoopError", "coupling_groups", "describe", "is_loop", "solve_loop"]
 
 
-def coupling_order(couplings, instances) -> list:
+def coupling_order(couplings, instances, assembly: str = "") -> list:
     """The couplings sorted so that each is evaluated after every coupling its source needs.
 
     Coupling c2 needs c1 when c1 sets an input of c2's source instance that c2's source
     output depends on (direct feedthrough). A cycle is an algebraic loop. The order is by
     dependency level (outputs that need no coupled input first), and within a level by
     source instance: a master can then read a whole level before setting any of it, and
-    each FMU computes its outputs once per level rather than once per read.
+    each FMU computes its outputs once per level rather than once per read. `assembly`
+    (its name) heads the loop's error, as every refusal of a mode names what it refuses.
     """
     needs = {i: [j for j, c1 in enumerate(couplings)
                  if c1.target[0] == c2.source[0]
@@ -159,8 +160,11 @@ def coupling_order(couplings, instances) -> list:
         if i in active:
             loop = active[active.index(i):] + [i]
             path = " -> ".join(f"{'.'.join(couplings[j].source)}" for j in loop)
-            raise AssemblyError(f"algebraic loop between direct-feedthrough outputs: {path}; "
-                                "the me and monolithic masters cannot solve loops yet")
+            where = f"assembly '{assembly}': " if assembly else ""
+            raise AssemblyError(f"{where}algebraic loop between direct-feedthrough outputs: "
+                                f"{path}; "
+                                "the me coupling cannot solve loops yet (mode monolithic "
+                                "solves linear ones)")
         active.append(i)
         for j in needs[i]:
             visit(j)

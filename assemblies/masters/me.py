@@ -76,9 +76,9 @@ class _ModelInstance(_Instance):
 class _CoupledSystem:
     """All instances as one hybrid ODE for :func:`assemblies.hybrid.integrate`."""
 
-    def __init__(self, instances: dict[str, _ModelInstance], couplings, columns):
+    def __init__(self, instances: dict[str, _ModelInstance], couplings, columns, name=""):
         self.instances = instances
-        self.couplings = coupling_order(couplings, instances)
+        self.couplings = coupling_order(couplings, instances, name)
         self.columns = columns
         self.slices, start = {}, 0
         for name, inst in instances.items():
@@ -188,7 +188,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         for name, comp in assembly.components.items():
             instances[name] = _ModelInstance(name, comp)
         columns = _record_columns(instances, record)
-        system = _CoupledSystem(instances, couplings, columns)
+        system = _CoupledSystem(instances, couplings, columns, assembly.name)
         for inst in instances.values():
             for key, value in {**inst.component.values, **inst.component.starts}.items():
                 inst.set(key, value)

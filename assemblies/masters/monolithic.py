@@ -5,7 +5,8 @@ every connected input is then replaced by ``gain * (the source's output
 expression)``, recursively, so the joined model has no coupling left: its inputs
 are only the ports nobody connected (free flanges, force input 0). An input that
 depends, through direct feedthrough, on an output that depends on that input is an
-algebraic loop: an AssemblyError for now (a Newton solve belongs here later).
+algebraic loop; a linear one (rigidly joined inertias, a locked clutch) is solved
+symbolically, per combination of the modes its coefficients depend on.
 
 Two ways to run it:
 
@@ -19,6 +20,7 @@ Two ways to run it:
 from __future__ import annotations
 
 import functools
+import itertools
 import time as wallclock
 from dataclasses import dataclass
 from types import SimpleNamespace
@@ -27,8 +29,9 @@ from typing import Callable
 import numpy as np
 
 from components.component import Component
-from components.dae import flatten
-from components.interfaces import FORCE_IN, Constraint, Mode, Parameter, Port, Profile, State
+from components.dae import _solve_linear, flatten
+from components.interfaces import (FORCE_IN, ComponentError, Constraint, Mode, Parameter, Port,
+                                   Profile, State)
 from components.lazy import lazy
 
 from ..assembly import Assembly, AssemblyError
@@ -64,6 +67,7 @@ class JoinedModel:
     open_inputs: list[tuple[str, str]]   # (instance, input) in u order
     terminate: list[tuple[int, str, str]]  # (index in q, instance, message)
     couplings: tuple = ()  # the assembly's resolved couplings (source -> target, gain)
+    looped: frozenset = frozenset()  # inputs on an algebraic loop, solved in the join
 
 
 def join(assembly: Assembly) -> JoinedModel:
@@ -87,29 +91,8 @@ def join(assembly: Assembly) -> JoinedModel:
 
     tables = {name: symbol_table(m) for name, m in members.items()}
     feeds = {c.target: c for c in couplings}
-    resolved: dict[tuple[str, str], ca.SX] = {}
+    resolved, looped = _resolve_couplings(assembly, members, tables, feeds)
 
-    def resolve(target, stack=()):
-        if target in resolved:
-            return resolved[target]
-        if target in stack:
-            loop = " -> ".join(".".join(k) for k in stack[stack.index(target):] + (target,))
-            raise AssemblyError(f"assembly '{assembly.name}': algebraic loop through the inputs "
-                                f"{loop}; the monolithic master cannot solve loops yet")
-        c = feeds[target]
-        inst, var = c.source
-        if var not in tables[inst]:
-            raise AssemblyError(f"assembly '{assembly.name}': {inst} has no variable '{var}'")
-        expr = tables[inst][var]
-        m = members[inst]
-        for i, v in enumerate(m.inputs):
-            if (inst, v.name) in feeds and ca.depends_on(expr, m.u[i]):
-                expr = ca.substitute(expr, m.u[i], resolve((inst, v.name), stack + (target,)))
-        resolved[target] = c.gain * expr
-        return resolved[target]
-
-    for target in feeds:
-        resolve(target)
     # one substitution per member: its time, and its connected inputs by their sources
     open_inputs, u_syms, u0 = [], [], []
     old, new = [], []
@@ -150,7 +133,111 @@ def join(assembly: Assembly) -> JoinedModel:
         u0=np.array(u0, dtype=float),
         p0=np.concatenate([[v.start for v in m.parameters] for m in members.values()] + [[]]),
         members=members, outputs=outputs, owner_of_indicator=owners,
-        open_inputs=open_inputs, terminate=terminate, couplings=tuple(couplings))
+        open_inputs=open_inputs, terminate=terminate, couplings=tuple(couplings),
+        looped=frozenset(looped))
+
+
+def _resolve_couplings(assembly, members, tables, feeds) -> tuple[dict, set]:
+    """(every connected input as an expression in states, modes, parameters, time and open
+    inputs: its source's output, with the source's own connected inputs substituted,
+    recursively. Inputs on a cycle of direct feedthrough (two inertias held together by
+    a gear or a locked clutch: each one's acceleration needs the torque the other's
+    acceleration sets) are an algebraic loop; mechanical loops are linear in the loop's
+    inputs for given modes, so they are solved here, once per combination of the modes
+    the loop's coefficients depend on, and selected by mode (as flatten() solves one
+    component's equations); and the inputs on a loop).
+    """
+    def reads(target):  # the fed inputs `target`'s source output reads directly
+        inst, var = feeds[target].source
+        if var not in tables[inst]:
+            raise AssemblyError(f"assembly '{assembly.name}': {inst} has no variable '{var}'")
+        m, expr = members[inst], tables[inst][var]
+        return [(inst, v.name) for i, v in enumerate(m.inputs)
+                if (inst, v.name) in feeds and ca.depends_on(expr, m.u[i])]
+
+    graph = {target: reads(target) for target in feeds}
+    looped = _on_cycles(graph)
+    holders = {t: ca.SX.sym(f"loop:{t[0]}.{t[1]}") for t in looped}
+    resolved: dict[tuple[str, str], ca.SX] = {}
+
+    def resolve(target):
+        if target in resolved:
+            return resolved[target]
+        inst, var = feeds[target].source
+        expr, m = tables[inst][var], members[inst]
+        for i, v in enumerate(m.inputs):
+            source = (inst, v.name)
+            if source in feeds and ca.depends_on(expr, m.u[i]):
+                value = holders[source] if source in holders else resolve(source)
+                expr = ca.substitute(expr, m.u[i], value)
+        resolved[target] = feeds[target].gain * expr
+        return resolved[target]
+
+    for target in feeds:
+        resolve(target)
+    if not holders:
+        return resolved, looped
+    unknowns = ca.vertcat(*holders.values())
+    residual = ca.vertcat(*[holders[t] - resolved[t] for t in holders])
+    solution = _solve_loop(assembly, members, residual, unknowns, list(holders))
+    return {t: ca.substitute(expr, unknowns, solution) for t, expr in resolved.items()}, looped
+
+
+def _on_cycles(graph: dict) -> set:
+    """The nodes of `graph` (node -> nodes it reads) that lie on a cycle (Tarjan)."""
+    index, low, stack, on_stack, out = {}, {}, [], set(), set()
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1 or v in graph.get(v, ()):
+                out.update(component)
+
+    for v in graph:  # graphs of an assembly's couplings: depth is a few dozen at most
+        if v not in index:
+            visit(v)
+    return out
+
+
+def _solve_loop(assembly, members, residual, unknowns, targets):
+    """Solve the linear loop ``residual(unknowns) = 0`` per combination of the modes its
+    coefficients depend on, selected by mode; one line naming the loop where it cannot."""
+    shown = ", ".join(f"{i}.{v}" for i, v in targets)
+    where = f"assembly '{assembly.name}': algebraic loop through {shown}"
+    J = ca.jacobian(residual, unknowns)
+    modes = [(m.q[k], mode.values) for m in members.values()
+             for k, mode in enumerate(m.component.modes) if ca.depends_on(J, m.q[k])]
+    try:
+        if not modes:
+            return _solve_linear(residual, unknowns, where)
+        symbols = ca.vertcat(*[q for q, _ in modes])
+        solution = None
+        for values in itertools.product(*[v for _, v in modes]):
+            fixed = ca.substitute(residual, symbols, ca.DM(values))
+            branch = _solve_linear(fixed, unknowns, f"{where} in modes {values}")
+            if solution is None:
+                solution = branch
+                continue
+            chosen = functools.reduce(ca.logic_and, [q == v for (q, _), v in zip(modes, values)])
+            solution = ca.if_else(chosen, branch, solution)
+        return solution
+    except ComponentError as exc:
+        raise AssemblyError(f"{exc}; the monolithic master solves linear loops only") from None
 
 
 # --- the reference integration ------------------------------------------------
@@ -325,9 +412,12 @@ class Composite(Component):
 
     def vectorised_functions(self, model) -> dict:
         # a large assembly: one function per member kind, mapped over the members, so
-        # that the C grows with the kinds, not with the flattened expression
+        # that the C grows with the kinds, not with the flattened expression; a loop is
+        # solved across members in the join, which no member's own function can express
         from .composite_code import member_functions, worth_mapping
-        return member_functions(self.joined, model) if worth_mapping(model) else {}
+        if self.joined.looped or not worth_mapping(model):
+            return {}
+        return member_functions(self.joined, model)
 
     def equations(self, e):
         m = self.joined

@@ -25,7 +25,8 @@ FAMILIES = {"friction": "FRICTION_SCENES", "axle": "AXLE_SCENES", "coin": "COIN_
             "speed_control": "SPEED_CONTROL_SCENES", "friction_seed": "SEED_FRICTION_SCENES",
             "bodies_seed": "SEED_BODY_SCENES", "bodies_exercises": "EXERCISE_SCENES",
             "sliding": "SLIDING_SCENES", "burridge_knopoff": "BURRIDGE_KNOPOFF_SCENES",
-            "msl_translational": "MSL_TRANSLATIONAL_SCENES"}
+            "msl_translational": "MSL_TRANSLATIONAL_SCENES",
+            "msl_rotational": "MSL_ROTATIONAL_SCENES"}
 
 
 def family(module: str) -> dict[str, Scene]:

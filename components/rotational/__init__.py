@@ -1,7 +1,9 @@
-"""Rotational elements (MSL ``Modelica.Mechanics.Rotational.Components``): torsional
-springs and the motor.
+"""Rotational elements (MSL ``Modelica.Mechanics.Rotational.Components``): inertia,
+fixed housing, gear, springs, damper, friction elements and the motor.
 
-Names are imported on first use (PEP 562), like the top-level ``components``.
+Names are imported on first use (PEP 562), like the top-level ``components``. Names
+MSL shares with Translational carry the prefix ``Rotational`` here and at the top
+level (their modules also export MSL's own name).
 """
 from __future__ import annotations
 
@@ -9,7 +11,16 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "BearingFriction": ".friction",
+    "Clutch": ".friction",
+    "RotationalBrake": ".friction",
+    "IdealGear": ".rigid",
+    "Inertia": ".rigid",
     "Motor": ".elements",
+    "RotationalDamper": ".elements",
+    "RotationalFixed": ".rigid",
+    "RotationalSpring": ".elements",
+    "RotationalSpringDamper": ".elements",
     "TorsionalSpring": ".elements",
 }
 

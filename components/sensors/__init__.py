@@ -1,4 +1,4 @@
-"""Sensors (MSL ``Sensors``): position, speed and force of a flange as output signals.
+"""Sensors (MSL ``Sensors``): a flange's motion, force, torque or power as output signals.
 
 Names are imported on first use (PEP 562), like the top-level ``components``.
 """
@@ -8,6 +8,10 @@ from ..lazy import lazy_exports
 
 # name -> the module that defines it
 WHERE = {
+    "AngleSensor": ".rotational",
+    "RotationalPowerSensor": ".rotational",
+    "RotationalSpeedSensor": ".rotational",
+    "TorqueSensor": ".rotational",
     "ForceSensor": ".translational",
     "PositionSensor": ".translational",
     "SpeedSensor": ".translational",

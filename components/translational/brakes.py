@@ -91,16 +91,24 @@ class _TableFriction(Component):
         if rows is None:
             raise ComponentError(f"{type(self).__name__} '{name or type(self).__name__}': "
                                  f"option rows must be {self._rows_option().allowed()}")
+        self.parameters = self._parameters_for(rows)
+        for k, row in enumerate(() if table is None else table, start=1):
+            values.update({f"{self.table_name}[{k},{j}]": x for j, x in enumerate(row, 1)})
+        super().__init__(name, profile, rows=rows, **values)
+
+    def _parameters_for(self, rows: int) -> tuple[Parameter, ...]:
         # a default table of more rows than the default's one: speeds 0, 1, 2, ... m/s
         default = [(float(k), self.table_default[0][1]) for k in range(rows)]
-        self.parameters = (*self.own_parameters, *(
+        return (*self.own_parameters, *(
             Parameter(f"{self.table_name}[{k},{j}]", default[k - 1][j - 1], unit,
                       f"{what} of row {k} of {self.table_name}")
             for k in range(1, rows + 1)
             for j, unit, what in ((1, "m/s", "sliding speed"), (2, self.table_unit, "value"))))
-        for k, row in enumerate(() if table is None else table, start=1):
-            values.update({f"{self.table_name}[{k},{j}]": x for j, x in enumerate(row, 1)})
-        super().__init__(name, profile, rows=rows, **values)
+
+    def set(self, key: str, value) -> None:
+        super().set(key, value)
+        if key == "rows":  # set after construction (--param brake.rows=2): the table grows
+            self.resize_parameters(self._parameters_for(self.option("rows")))
 
     def _rows_option(self):
         return next(o for o in self.options if o.name == "rows")

@@ -161,3 +161,13 @@ def test_rod_and_junction_join_a_mass_to_two_springs():
     # flows sum to zero at the joint: the cut force at flange_a is minus the springs'
     # tensions (each pulls the joint towards its wall: +f at flange_a of a spring)
     np.testing.assert_allclose(r["joint.flange_a.f"], -(r["left.f"] + r["right.f"]), atol=1e-9)
+
+
+def test_rows_set_after_construction_sizes_the_brake_table():
+    """`--param brake.rows=3` on a built Brake: rows 2 and 3 appear at the default speeds
+    1 and 2 m/s with the default mu, row 1 keeps what was set."""
+    b = Brake("b", **{"mu_pos[1,2]": 0.3})
+    b.set("rows", 3)
+    b.validate()
+    assert [b.values[f"mu_pos[{k},{j}]"] for k in (1, 2, 3) for j in (1, 2)] == [
+        0.0, 0.3, 1.0, 0.5, 2.0, 0.5]

@@ -1,0 +1,111 @@
+"""CoupledClutches (MSL Rotational.Examples) at tolerance 1e-6: our engine running the
+composite FMU beside fmpy running the same composite FMU, and the scipy reference master.
+
+    python -m benchmarks.msl_examples [--repeats N] [--json FILE]
+
+The assembly's clutches hold their driven inertias, so a lock is an algebraic loop the
+monolithic join solves; mode monolithic (the composite FMU) is the mode that runs it
+exactly (cosim and the me coupling of separate FMUs cannot hold a lock), so the
+comparison is of three runners of the same joined model: the engine (``run_scene`` in
+mode monolithic, the user's call), fmpy's ``simulate_fmu`` on the same composite FMU
+(Model Exchange with CVode, and Co-Simulation with our FMU's own solver), and the
+joined CasADi model under scipy (``engine="reference"``). Times are CPU seconds of this
+process (time.process_time), round-robin over the runners, least and spread over the
+repeats; FMUs are built by an untimed first call. Each row keeps the largest error of
+J1..J4.w against the event-driven reference of MSL's clutch law (the scene's figure).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+import numpy as np
+
+from assemblies.scenes import scene
+from assemblies.scenes.msl_rotational_references import coupled_clutches
+
+TOLERANCE = 1e-6
+COLUMNS = ("J1.w", "clutch1.w", "clutch2.w", "clutch3.w")
+
+
+def _runners():
+    import fmpy
+
+    from assemblies.engine.prepare import prepared_composite
+    from assemblies.masters.monolithic import simulate_monolithic as reference
+    from assemblies.run import run_scene
+    sc = scene("coupled_clutches")
+    asm = sc.build()
+    _, fmu = prepared_composite(asm)
+    grid = np.arange(0.0, sc.stop_time + 5e-4, sc.step)
+    names = list(COLUMNS)
+    # the composite FMU is shared by every assembly of this structure: its values are set
+    # per run, as the engine sets them (MSL's start values: J1.w = 10 rad/s)
+    starts = {f"{inst}.{key}": value for inst, comp in asm.components.items()
+              for key, value in comp.fmu_starts().items() if key != "solver"}
+
+    def engine():
+        res = run_scene("coupled_clutches", mode="monolithic", tolerance=TOLERANCE)
+        return np.asarray(res["time"]), np.column_stack([res[c] for c in COLUMNS])
+
+    def fmpy_run(fmi_type):
+        def run():
+            res = fmpy.simulate_fmu(fmu.path, fmi_type=fmi_type, stop_time=sc.stop_time,
+                                    output_interval=sc.step, relative_tolerance=TOLERANCE,
+                                    start_values=starts, output=names)
+            return np.asarray(res["time"]), np.column_stack([res[c] for c in names])
+        return run
+
+    def scipy_reference():
+        res = reference(sc.build(), sc.stop_time, sc.step, TOLERANCE, record=list(COLUMNS))
+        return np.asarray(res["time"]), np.column_stack([res[c] for c in COLUMNS])
+
+    return {"engine (composite FMU)": engine, "fmpy ME (composite FMU, CVode)": fmpy_run(
+        "ModelExchange"), "fmpy CS (composite FMU)": fmpy_run("CoSimulation"),
+        "scipy reference master": scipy_reference}, grid
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--json", default=None)
+    args = ap.parse_args(argv)
+    runners, _ = _runners()
+    ref = coupled_clutches()
+    errors, times, failed = {}, {name: [] for name in runners}, {}
+    for name, run in list(runners.items()):  # untimed: builds, loads
+        try:
+            t, w = run()
+        except Exception as exc:  # a runner that fails is a row saying so, not a crash
+            failed[name] = f"{type(exc).__name__}: {str(exc).splitlines()[0]}"
+            del runners[name]
+            continue
+        ref_w = np.column_stack([np.interp(t, ref.t, ref.w[:, k]) for k in range(4)])
+        errors[name] = float(np.abs(w - ref_w).max())
+    for _ in range(args.repeats):
+        for name, run in runners.items():
+            start = time.process_time()
+            run()
+            times[name].append(time.process_time() - start)
+    rows = [{"runner": n, "cpu_s_min": min(v), "cpu_s_max": max(v), "max_error_rad_s": errors[n]}
+            for n, v in times.items() if v]
+    base = rows[0]["cpu_s_min"]
+    print(f"CoupledClutches, tolerance {TOLERANCE:g}, stop 1.5 s, {args.repeats} repeats "
+          "(CPU s of this process)")
+    print(f"{'runner':34s} {'min':>9s} {'max':>9s} {'x engine':>9s} {'max |w - ref|':>14s}")
+    for r in rows:
+        print(f"{r['runner']:34s} {r['cpu_s_min']:9.4f} {r['cpu_s_max']:9.4f} "
+              f"{r['cpu_s_min'] / base:9.1f} {r['max_error_rad_s']:14.2e}")
+    for name, why in failed.items():
+        print(f"{name:34s} failed: {why}")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump({"tolerance": TOLERANCE, "repeats": args.repeats, "rows": rows,
+                       "failed": failed}, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
