@@ -325,7 +325,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="relative tolerance of the FMUs' solvers, in [1e-14, 1) (default: the "
                         "scene's own)")
     r.add_argument("--param", action="append", metavar="INSTANCE.NAME=VALUE",
-                   help="parameter, option or start value (repeatable)")
+                   help="parameter, option or start value (repeatable); NAME=VALUE with no "
+                        "instance sets a parameter of the scene itself (burridge_knopoff's "
+                        "n, ...: a wrong name lists them)")
     r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"),
                    help="co-simulation sweep (mode cosim only; default: jacobi)")
     r.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
@@ -340,9 +342,10 @@ def _parser() -> argparse.ArgumentParser:
     steps.add_argument("--fixed-step", action="store_true",
                        help="a fixed communication step of --step seconds, no error control "
                             "(mode cosim only)")
-    r.add_argument("--mode", choices=("cosim", "me", "monolithic"),
+    r.add_argument("--mode", choices=("cosim", "me", "monolithic", "fault"),
                    help="master: co-simulation, one solver over Model Exchange FMUs, or the "
-                        "joined model (default: the scene's own, cosim for most)")
+                        "joined model; fault: burridge_knopoff's event-driven fault solver "
+                        "(default: the scene's own, cosim for most)")
     r.add_argument("--engine", choices=("c", "fmpy"),
                    help="c: the compiled engine, one C call per run (default); fmpy: the "
                         "Python reference masters driving the same FMUs through fmpy (in "

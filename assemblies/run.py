@@ -77,6 +77,7 @@ class SceneRun:
         if s.get("interrupted"):
             lines.append(f"interrupted (Ctrl-C) at t = {self.result['time'][-1]:.10g} s: the "
                          "table and figures cover the run up to there")
+        lines.extend(s.get("lines", []))  # what a scene's own solver reports of its run
         if s.get("adaptive"):
             lines.append(f"adaptive to tol {s['tol']:g} (extrapolation {s['extrapolation']}): "
                          f"{s['steps']} steps taken, {s['rejected']} rejected")
@@ -181,10 +182,13 @@ def check_cosim_only(mode: str, **settings) -> None:
                 "tolerance, --tolerance); leave it out or run mode 'cosim'")
 
 
-def check_choices(mode: str, engine: str) -> None:
-    """Refuse a master or an engine that does not exist, naming those that do."""
-    if mode not in MODES:
-        raise AssemblyError(f"mode must be one of {', '.join(MODES)}, not '{mode}'")
+def check_choices(mode: str, engine: str, own: tuple[str, ...] = (), scene: str = "") -> None:
+    """Refuse a master or an engine that does not exist, naming those that do (`own`: the
+    modes `scene` runs with a solver of its own)."""
+    if mode not in MODES + tuple(own):
+        where = f" for scene '{scene}'" if scene else ""
+        raise AssemblyError(f"mode must be one of {', '.join(MODES + tuple(own))}{where}, "
+                            f"not '{mode}'")
     if engine not in ENGINES:
         raise AssemblyError(f"engine must be one of {', '.join(ENGINES)}, not '{engine}'")
 
@@ -200,23 +204,34 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     sc = name if isinstance(name, Scene) else scene(name)
     name = sc.name
     mode = sc.mode if mode is None else mode
-    check_choices(mode, engine)
+    check_choices(mode, engine, tuple(sc.solvers), name)
     check_cosim_only(mode, scheme=scheme, adaptive=adaptive, extrapolation=extrapolation)
     if params is not None and not isinstance(params, dict):
         raise AssemblyError(f"params must be a dict of 'INSTANCE.NAME': value, e.g. "
                             f"{{'block.m': 2}}, not {type(params).__name__} {params!r}")
+    # NAME=VALUE with no instance: the scene's own (its assembly's shape), checked and
+    # bounded per mode before anything is built
+    shape = {k: v for k, v in (params or {}).items() if "." not in k}
+    try:
+        arguments = sc.arguments(shape, mode)
+    except ValueError as exc:
+        raise AssemblyError(str(exc)) from None
     if out is not None:  # a folder that cannot be written is found before the run
         out = writable_folder(out, "out", AssemblyError)
-    asm = sc.build()
+    asm = sc.assemble(arguments, shape)
     if values is not None:
         set_instance_values(asm, values)
     for key, value in (params or {}).items():
-        asm.set(key, value)
-    check_mode(asm, mode)  # a foreign FMU the mode cannot run: one line, before any work
+        if key not in shape:
+            asm.set(key, value)
+    own = sc.solvers.get(mode)
+    if own is None:
+        check_mode(asm, mode)  # a foreign FMU the mode cannot run: one line, before any work
     # tables first: pruning then drops a table whose input is not needed
     fed = with_inputs(asm, inputs)
     # the figures read the whole assembly's values; the masters run what the record needs
-    run_asm, pruned = prune_unrecorded(fed, sc.record) if prune else (fed, [])
+    run_asm, pruned = (prune_unrecorded(fed, sc.record) if prune and own is None
+                       else (fed, []))
     common = dict(stop_time=stop_time if stop_time is not None else sc.stop_time,
                   step=step if step is not None else sc.step,
                   tolerance=tolerance if tolerance is not None else sc.tolerance,
@@ -228,12 +243,17 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     single_fmu = (engine == "c" and len(members) == 1 and adaptive is None
                   and extrapolation is None and scheme is None)
     if jacobian is not None:
-        if engine != "c" or (mode == "cosim" and not single_fmu):
+        if engine != "c" or own is not None or (mode == "cosim" and not single_fmu):
             raise AssemblyError(f"jacobian (--jacobian) applies to the compiled engine's "
                                 f"one-solver runs (mode 'me' or 'monolithic', or a single "
                                 f"FMU), and this run is mode '{mode}' in engine '{engine}'")
         common["jacobian"] = jacobian
-    if mode == "cosim" and single_fmu:
+    if own is not None:
+        if engine != "c":
+            raise AssemblyError(f"mode '{mode}' runs scene '{name}' with a solver of its "
+                                f"own, which has no engine '{engine}'; leave --engine out")
+        result = own(run_asm, arguments, **common)
+    elif mode == "cosim" and single_fmu:
         # one FMU and nothing to couple: no communication step to choose, so its solver
         # steps freely and outputs come from its dense output
         result = run_me(run_asm, **common)
@@ -252,7 +272,8 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     record = run_record(name, dict(common, mode=mode, engine=engine, scheme=scheme,
                                    adaptive=adaptive, extrapolation=extrapolation,
                                    jacobian=jacobian, prune=prune), params, inputs, asm,
-                        fed.resolve_causality())
+                        # a scene's own solver loads no FMU: no causality to record
+                        fed.resolve_causality() if own is None else dict.fromkeys(asm.components))
     run = SceneRun(name, result, sc.figures(result, asm), record)
     result.figures = run.figures
     result.assembly = asm  # the values the run used: a picture draws with them (--param)

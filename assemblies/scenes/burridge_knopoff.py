@@ -9,11 +9,14 @@ The scene (n = 2, in ``me``, ``monolithic`` or ``cosim``) runs the chain as FMUs
 holds its slides to an independent scipy integration of the equations
 (:mod:`.fault_references`) and its first break-away to the closed form; beside it the
 event-driven fault solver (:mod:`assemblies.engine.fault`) runs the same values, held
-to the same reference and to the energy balance. Another length or other values run
-the same way: ``run_scene_full(dataclasses.replace(scene("burridge_knopoff"),
-build=lambda: fault_chain(6, ...)), mode="me")``. Large chains (n up to 1e5 and more)
-are the fault solver's alone: :func:`fault_study` runs one, measures the size
-distribution against Carlson & Langer's scaling and draws the catalogue;
+to the same reference and to the energy balance. Another length or other values are
+the scene's parameters (SCENE_PARAMETERS): ``mechfmu run burridge_knopoff --param n=6
+--param ell=1``. Mode ``fault`` runs the chain in the fault solver alone, its event
+catalogue as the result table, held to the energy balance, to scipy's slides for n <=
+SCIPY_N and, on long chains, to Carlson & Langer's b: ``mechfmu run burridge_knopoff
+--mode fault --param n=1000 --param ell=10 --param sigma=0.01 --param nu=0.01 --param
+events=20000``; the FMU modes refuse an n beyond what they run here in under a minute.
+:func:`fault_study` adds a warm-up and runs the C&L model (no backward slides):
 ``python -m assemblies.scenes.burridge_knopoff --n 1000 --events 10000 --out DIR``.
 """
 from __future__ import annotations
@@ -31,7 +34,7 @@ from components import ConstantSpeed, FaultBlock, Spring
 from ..assembly import Assembly
 from ..engine.fault import FaultError, FaultRun, carlson_langer, run_fault, thresholds
 from ..result import Result
-from .scene import DRIFT, Figure, Scene, solver_accuracy
+from .scene import DRIFT, Figure, Scene, SceneParameter, solver_accuracy
 
 #: the scene's chain: C&L units (m = kp = F0 = 1), short coupling and a fast plate so a
 #: run of a few minutes' worth of events takes seconds as FMUs
@@ -109,43 +112,71 @@ def _slide_error(measured, reference) -> float:
     return max(max(abs(m[1] - r[1]), abs(m[2] - r[2])) for m, r in zip(measured, reference))
 
 
+#: the longest chain whose slides are held slide by slide to scipy's: beyond it a
+#: scipy run over every block is slow, and the chain's chaos lets 1e-10 differences grow
+#: into other slide sequences within the scene's run
+SCIPY_N = 6
+
+
 def _figures(result: Result, asm: Assembly) -> list[Figure]:
-    from .fault_references import scipy_slides
     values = chain_values(asm)
     F, x0 = values.pop("F"), values.pop("x0")
-    n, stop = F.size, float(result["time"][-1])
-    tol = result.settings["tolerance"]
-    # the reference: the equations in scipy, 100 times tighter than the run
-    ref, _ = scipy_slides(F, **values, stop_time=stop, x0=x0, rtol=tol / 100,
-                          atol=tol / 1e4)
-    ref = [(b, t0, t1) for b, t0, t1, _ in ref]
-    fmu = _fmu_slides(result, n)
-    fault = run_fault(F, **values, tol=tol, stop_time=stop, x0=x0)
+    n, tol = F.size, result.settings["tolerance"]
+    fault = getattr(result, "fault_run", None)
+    own = fault is not None  # mode fault: the solver's run is the result itself
+    stop = fault.totals["time"] if own else float(result["time"][-1])
+    if not own:
+        fault = run_fault(F, **values, tol=tol, stop_time=stop, x0=x0)
     solver = sorted(((int(s["block"]), float(s["t0"]), float(s["t1"])) for s in fault.slides),
                     key=lambda s: s[2])
     # from rest with relaxed couplings each block's force is kp (V t - x0) + coupling
     first = min((F[i] - (values["kc"] * _lap(x0, i) - values["kp"] * x0[i]))
                 / (values["kp"] * values["V"]) for i in range(n)) if values["V"] > 0 else math.nan
-    first_fmu = min((s[1] for s in fmu), default=math.nan)
-    bound = solver_accuracy(result, stop)
-    fmu_bound = _coupling_accuracy(result, stop)
+    fmu = [] if own else _fmu_slides(result, n)
+    measured_first = min((s[1] for s in (solver if own else fmu)), default=math.nan)
+    who = "fault solver" if own else "FMUs"
+    figures = [Figure("t_first", f"{who}: first break-away [s] (closed form (F_i - B_i) / "
+                      "(kp V))", measured_first, first, _coupling_accuracy(result, first),
+                      source='closed form (stuck chain under a uniformly moving plate, '
+                             'derived here)')]
+    if n <= SCIPY_N:
+        from .fault_references import scipy_slides
+        # the reference: the equations in scipy, 100 times tighter than the run
+        ref, _ = scipy_slides(F, **values, stop_time=stop, x0=x0, rtol=tol / 100,
+                              atol=tol / 1e4)
+        ref = [(b, t0, t1) for b, t0, t1, _ in ref]
+        if not own:
+            figures.append(Figure(
+                "slides", f"FMUs: largest slide start/end error over the {len(ref)} slides "
+                "[s] (vs scipy's event-driven integration at tol/100)",
+                _slide_error(fmu, ref), 0.0, _coupling_accuracy(result, stop),
+                source='independent integration (scipy event-driven, fault_references)'))
+        figures.append(Figure(
+            "solver", f"fault solver: largest slide start/end error over the {len(ref)} "
+            "slides [s] (vs scipy)", _slide_error(solver, ref), 0.0,
+            solver_accuracy(result, stop),
+            source='independent integration (scipy event-driven, fault_references)'))
     t = fault.totals
-    return [
-        Figure("t_first", "first break-away [s] (closed form (F_i - B_i) / (kp V))",
-               first_fmu, first, _coupling_accuracy(result, first),
-               source='closed form (stuck chain under a uniformly moving plate, derived here)'),
-        Figure("slides", f"FMUs: largest slide start/end error over the {len(ref)} slides "
-               "[s] (vs scipy's event-driven integration at tol/100)",
-               _slide_error(fmu, ref), 0.0, fmu_bound,
-               source='independent integration (scipy event-driven, fault_references)'),
-        Figure("solver", f"fault solver: largest slide start/end error over the {len(ref)} "
-               "slides [s] (vs scipy)", _slide_error(solver, ref), 0.0, bound,
-               source='independent integration (scipy event-driven, fault_references)'),
-        Figure("energy", "fault solver: friction dissipation + change in stored energy [J] "
-               "(vs the plate's work)", t["dissipated"] + t["E_end"] - t["E_start"],
-               t["plate_work"], DRIFT * tol, relative=True,
-               source='conservation law (plate work = dissipation + stored energy)'),
-    ]
+    figures.append(Figure(
+        "energy", "fault solver: friction dissipation + change in stored energy [J] "
+        "(vs the plate's work)", t["dissipated"] + t["E_end"] - t["E_start"],
+        t["plate_work"], DRIFT * tol, relative=True,
+        source='conservation law (plate work = dissipation + stored energy)'))
+    if own and n >= B_MIN_N and values["V"] > 0:
+        # C&L's scaling is of the statistically steady chain: the events after the plate
+        # has reloaded every leaf spring past its threshold 2.5 times (fault_study's warm-up)
+        cat = fault.catalogue
+        steady = cat[cat["start"] >= 2.5 * float(F.max()) / (values["kp"] * values["V"])]
+        ell = math.sqrt(values["kc"] / values["kp"])
+        lo, hi = localised_range(values["sigma"], ell)
+        if np.count_nonzero((steady["moment"] >= lo) & (steady["moment"] <= hi)) >= B_MIN_EVENTS:
+            figures.append(small_event_b(steady, values["sigma"], ell))
+    return figures
+
+
+#: the b figure (mode fault): a chain long enough for localised events of ell blocks to
+#: be many per event, and enough of them in the fit range for a 99% half-width below ~0.3
+B_MIN_N, B_MIN_EVENTS = 100, 1000
 
 
 def _coupling_accuracy(result: Result, scale: float) -> float:
@@ -410,19 +441,102 @@ def main(argv: list[str] | None = None) -> int:
     return 0 if all(f.passed for f in figures) else 1
 
 
-def _scene_chain() -> Assembly:
-    return fault_chain(**SCENE_CHAIN)
+#: the scene's parameters (--param NAME=VALUE): its chain's shape and the run's length
+#: in events. The FMU masters are bounded by runs measured here (2 loaded cores, FMUs
+#: cached): me loads one FMU instance per block and per link, and the causality search
+#: recurses once per instance, past Python's stack beyond ~1000 instances (n = 330);
+#: monolithic builds the joined model anew for each n
+SCENE_PARAMETERS = (
+    SceneParameter("n", SCENE_CHAIN["n"], 1, 100_000, "1", "number of blocks", integer=True,
+                   most={"me": (300, "its causality search recurses once per instance, "
+                                     "3n of them, and overflows beyond n = 330; n = 300 "
+                                     "took 12 s here; run mode fault"),
+                         "monolithic": (250, "the joined model's CasADi code and gcc build "
+                                             "grow with n: n = 250 took 34 s here, n = 300 "
+                                             "66 s; run mode fault"),
+                         "cosim": (100, "every block is coupled at every communication "
+                                        "step: n = 100 took 34 s here; run mode fault")}),
+    SceneParameter("ell", SCENE_CHAIN["ell"], 0.0, 1e3, "1",
+                   "coupling/leaf stiffness ratio sqrt(kc/kp), kp = 1"),
+    SceneParameter("alpha", SCENE_CHAIN["alpha"], 0.0, 1e3, "1",
+                   "velocity weakening, Carlson & Langer's alpha"),
+    SceneParameter("sigma", SCENE_CHAIN["sigma"], 1e-6, 0.999, "1",
+                   "drop from static to kinetic friction at the onset of slip, / F0"),
+    SceneParameter("nu", SCENE_CHAIN["nu"], 1e-6, 1e3, "1", "plate speed, / vw"),
+    SceneParameter("heterogeneity", SCENE_CHAIN["heterogeneity"], 0.0, 0.999, "1",
+                   "thresholds F0 (1 + h u), u uniform in [-1, 1]"),
+    SceneParameter("seed", SCENE_CHAIN["seed"], 0, 2**31 - 1, "1",
+                   "random seed of the thresholds", integer=True),
+    SceneParameter("events", 0, 0, 10_000_000, "1",
+                   "slip events to run, 0: to the stop time", integer=True,
+                   most={m: (0, "its master runs to a stop time (--stop-time); events "
+                                "is mode fault's") for m in ("me", "monolithic", "cosim")}),
+)
+
+
+def _scene_chain(n: int = SCENE_CHAIN["n"], ell: float = SCENE_CHAIN["ell"],
+                 alpha: float = SCENE_CHAIN["alpha"], sigma: float = SCENE_CHAIN["sigma"],
+                 nu: float = SCENE_CHAIN["nu"],
+                 heterogeneity: float = SCENE_CHAIN["heterogeneity"],
+                 seed: int = SCENE_CHAIN["seed"], events: int = 0) -> Assembly:
+    # events is the run's length, not the chain's: mode fault reads it from its arguments
+    return fault_chain(n, ell=ell, alpha=alpha, sigma=sigma, nu=nu,
+                       heterogeneity=heterogeneity, seed=seed)
+
+
+def _solve_fault(asm: Assembly, arguments: dict, *, stop_time: float, step: float,
+                 tolerance: float, record=None, progress=None,
+                 start_time: float = 0.0) -> Result:
+    """Mode fault: the chain's values through the event-driven fault solver, as FaultBlock
+    models it (friction holds both ways); the result table is the event catalogue (one
+    row per slip event: its start time, end, blocks, moment and energy)."""
+    if start_time != 0.0:
+        raise FaultError("mode fault runs the chain from rest at t = 0: leave --start-time out")
+    values = chain_values(asm)
+    events = arguments.get("events") or None
+    F, x0 = values.pop("F"), values.pop("x0")
+    run = run_fault(F, **values, tol=tolerance, x0=x0,
+                    stop_time=math.inf if events else stop_time, max_events=events)
+    cat, s = run.catalogue, run.settings
+    result = Result({"time": cat["start"], "event.end": cat["end"],
+                     "event.blocks": cat["blocks"].astype(float), "event.moment": cat["moment"],
+                     "event.energy": cat["energy"]},
+                    settings=dict(stop_time=run.totals["time"], step=step, tolerance=tolerance,
+                                  scheme="fault solver (event-driven, the catalogue as result)",
+                                  engine="c", wall_s=s["wall_s"], cpu_s=s["cpu_s"],
+                                  events=s["events"], steps=s["steps"], status=s["status"],
+                                  slept_fraction=s["slept_fraction"], n=s["n"]))
+    result.settings["lines"] = [
+        f"n = {s['n']}: {s['events']} slip events to t = {run.totals['time']:.6g} s in CPU "
+        f"{s['cpu_s']:.3g} s, {s['steps']} steps; blocks stuck "
+        f"{100 * s['slept_fraction']['mean']:.1f}% of the time (least "
+        f"{100 * s['slept_fraction']['min']:.1f}%)"]
+    result.fault_run = run
+    return result
+
+
+def _picture(result: Result, title: str, png: Path) -> None:
+    """Mode fault: the size distribution and the space-time picture; else the panels."""
+    if getattr(result, "fault_run", None) is not None:
+        plot_fault(result.fault_run, title, png)
+        return
+    from ..plot import column_units, plot_result  # matplotlib: only for a plot
+    panels = [c for c in PANELS if c in result.columns]
+    plot_result(result, panels, title, png, column_units(result.assembly, panels))
+
+
+PANELS = ["block1.x", "block2.x", "block1.v", "block2.v"]
 
 
 BURRIDGE_KNOPOFF_SCENES: dict[str, Scene] = {
     "burridge_knopoff": Scene(
         "burridge_knopoff", "issue 30: Burridge-Knopoff chain, C&L velocity-weakening friction, "
         "exact stick-slip", _scene_chain, stop_time=SCENE_STOP, step=0.1, tolerance=1e-10,
-        record=["block1.x", "block1.v", "block1.mode", "block2.x", "block2.v", "block2.mode"],
-        figures=_figures, plot=["block1.x", "block2.x", "block1.v", "block2.v"], mode="me",
+        record=None, figures=_figures, plot=PANELS, picture=_picture, mode="me",
         seed="9.2 (its block, chained)",
         reference="slides vs scipy event-driven integration; first break-away closed form; "
-                  "energy balance"),
+                  "energy balance; mode fault: Carlson & Langer's b",
+        parameters=SCENE_PARAMETERS, solvers={"fault": _solve_fault}),
 }
 
 if __name__ == "__main__":

@@ -77,6 +77,47 @@ DRIFT = 1e4  # conservation over a run of 1e4-1e6 steps: per-step errors of ~tol
             # partly cancelling
 
 
+@dataclass(frozen=True)
+class SceneParameter:
+    """A value that shapes a scene's assembly itself (a chain's length), given on the
+    command line as ``--param NAME=VALUE`` with no instance prefix and passed to `build`.
+
+    `most` bounds it per mode where a mode cannot run the largest values in reasonable
+    time (mode -> (largest value, why)); it is checked before anything is built."""
+    name: str
+    default: float
+    low: float
+    high: float
+    unit: str
+    description: str
+    integer: bool = False
+    most: dict = field(default_factory=dict)
+
+    def allowed(self) -> str:
+        if self.integer:
+            return f"an integer in [{int(self.low)}, {int(self.high)}]"
+        return f"a number in [{self.low:g}, {self.high:g}]"
+
+    def value(self, scene: str, given, mode: str):
+        """`given` (a number or the command line's text) checked and converted, or one
+        line (ValueError) naming the scene, the parameter and what is allowed."""
+        where = f"scene '{scene}': parameter {self.name} ({self.description})"
+        try:
+            number = float(given)
+        except (TypeError, ValueError):
+            raise ValueError(f"{where} must be {self.allowed()}, not {given!r}") from None
+        if self.integer and number.is_integer():
+            number = int(number)
+        if (not math.isfinite(number) or not self.low <= number <= self.high
+                or (self.integer and not isinstance(number, int))):
+            raise ValueError(f"{where} must be {self.allowed()}, not {given!r}")
+        if mode in self.most and number > self.most[mode][0]:
+            largest, why = self.most[mode]
+            raise ValueError(f"{where} = {number:g} is too large for mode '{mode}' (at most "
+                             f"{largest:g}: {why})")
+        return number
+
+
 @dataclass
 class Scene:
     name: str
@@ -92,6 +133,30 @@ class Scene:
     mode: str = "cosim"  # the master a run uses when none is asked for (cosim, me, monolithic)
     seed: str = ""       # the seed's section(s) the scene reproduces, as README's table shows them
     reference: str = ""  # the independent references its figures are held to, in a line
+    #: values that shape the assembly: `build` takes them as keywords (SceneParameter)
+    parameters: tuple[SceneParameter, ...] = ()
+    #: modes the scene runs with a solver of its own: mode -> solve(assembly, arguments,
+    #: **the masters' common keywords) -> Result
+    solvers: dict = field(default_factory=dict)
+
+    def arguments(self, given: dict, mode: str) -> dict:
+        """`build`'s keywords: every parameter's default, replaced by `given`'s (NAME:
+        value, checked); one line (ValueError) for a name the scene does not have."""
+        known = {p.name: p for p in self.parameters}
+        for name in given:
+            if name not in known:
+                has = (f"its parameters: {', '.join(f'{p.name} ({p.allowed()})' for p in self.parameters)}"
+                       if self.parameters else "it has none")
+                raise ValueError(f"scene '{self.name}' has no parameter '{name}' ({has}; an "
+                                 "instance's is INSTANCE.NAME)")
+        return {p.name: p.value(self.name, given.get(p.name, p.default), mode)
+                for p in self.parameters}
+
+    def assemble(self, arguments: dict, given: dict) -> Assembly:
+        """The assembly: `build` takes the parameters a run `given` (checked, in
+        `arguments`) and its own defaults for the rest, so a scene copied with another
+        `build` (dataclasses.replace) still runs when none is given."""
+        return self.build(**{name: arguments[name] for name in given})
 
 
-__all__ = ["DRIFT", "Figure", "Scene", "solver_accuracy"]
+__all__ = ["DRIFT", "Figure", "Scene", "SceneParameter", "solver_accuracy"]

@@ -115,3 +115,84 @@ def test_weakening_sweep_without_dask_says_so(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed fails
     with pytest.raises(FaultError, match=r"mechfmu\[sweep\]"):
         weakening_sweep([2.5], n=10, events=10)
+
+
+# --- the scene's own parameters (--param NAME=VALUE) and its mode fault -------------
+@pytest.mark.parametrize("n, ell", [(1, 2.0), (3, 1.0)])
+def test_scene_parameter_n_in_me_and_fault(n, ell):
+    """`n` reshapes the chain: the FMUs' slides (me) and the fault solver's (fault) are
+    each held slide by slide to scipy's independent integration of the same n blocks."""
+    for mode in ("me", "fault"):
+        run = run_scene_full("burridge_knopoff", mode=mode, params={"n": n, "ell": ell},
+                             stop_time=60.0)
+        assert run.passed, run.table()
+        names = {f.name for f in run.figures}
+        assert {"t_first", "solver", "energy"} <= names
+        assert ("slides" in names) == (mode == "me")
+        assert run.record["run"]["params"] == {"n": n, "ell": ell}
+    assert sum(k.startswith("block") for k in run.result.assembly.components) == n
+
+
+def test_mode_fault_runs_a_long_chain_by_events_and_reports_sleep():
+    run = run_scene_full("burridge_knopoff", mode="fault",
+                         params={"n": 200, "events": 500, "ell": 10, "sigma": 0.01, "nu": 0.01})
+    assert run.passed, run.table()
+    s = run.result.settings
+    assert s["n"] == 200 and s["events"] >= 500
+    assert run.result["event.moment"].size == s["events"]
+    assert 0 < s["slept_fraction"]["min"] <= s["slept_fraction"]["mean"] <= 1
+    assert "blocks stuck" in run.table()
+
+
+def _mechfmu(*args):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "assemblies.cli", *args], capture_output=True,
+                          text=True, cwd=ROOT, env=env, timeout=120)
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--param", "n=0"], "parameter n (number of blocks) must be an integer in [1, 100000]"),
+    (["--param", "n=2.5"], "parameter n (number of blocks) must be an integer"),
+    (["--param", "n=many"], "parameter n (number of blocks) must be an integer"),
+    (["--param", "m=3"], "has no parameter 'm' (its parameters: n ("),
+    (["--mode", "me", "--param", "n=5000"], "= 5000 is too large for mode 'me' (at most"),
+    (["--mode", "monolithic", "--param", "n=1000"], "too large for mode 'monolithic'"),
+    (["--mode", "me", "--param", "events=10"], "too large for mode 'me' (at most 0"),
+])
+def test_bad_scene_parameter_is_one_line_exit_2(args, says):
+    r = _mechfmu("run", "burridge_knopoff", *args)
+    assert r.returncode == 2, r.stderr
+    err = r.stderr.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert "scene 'burridge_knopoff'" in err and says in err, err
+
+
+def test_mode_fault_is_refused_by_scenes_without_it():
+    from assemblies.assembly import AssemblyError
+    with pytest.raises(AssemblyError, match=r"mode must be one of cosim, me, monolithic for "
+                                            r"scene 'stick_slip', not 'fault'"):
+        run_scene_full("stick_slip", mode="fault")
+    with pytest.raises(AssemblyError, match="scene 'stick_slip' has no parameter 'n' "
+                                            r"\(it has none"):
+        run_scene_full("stick_slip", params={"n": 3})
+
+
+def test_mode_fault_refuses_what_it_has_not():
+    from assemblies.assembly import AssemblyError
+    with pytest.raises(AssemblyError, match="mode 'fault' runs scene 'burridge_knopoff' with a "
+                                            "solver of its own, which has no engine 'fmpy'"):
+        run_scene_full("burridge_knopoff", mode="fault", engine="fmpy")
+    with pytest.raises(FaultError, match="from rest at t = 0"):
+        run_scene_full("burridge_knopoff", mode="fault", start_time=1.0)
+
+
+def test_a_run_file_repeats_the_scene_parameters(tmp_path):
+    """The run file records n and the chain's values: --from rebuilds the same chain and
+    the fault solver gives the same catalogue."""
+    from assemblies import rerun
+    first = run_scene_full("burridge_knopoff", mode="fault", params={"n": 20, "events": 100},
+                           out=tmp_path, plot=False)
+    again = rerun(tmp_path / "burridge_knopoff.json")
+    assert again.record["run"]["params"] == {"n": 20, "events": 100}
+    assert np.array_equal(again.result["event.moment"], first.result["event.moment"])
+    assert sum(k.startswith("block") for k in again.result.assembly.components) == 20
