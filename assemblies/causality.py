@@ -86,17 +86,24 @@ def _search(names, options, links, check_dangling, supplied):
                     return False
         return True
 
-    def extend(i):
-        if i == len(names):
-            return True
-        for profile in options[names[i]]:
-            chosen[names[i]] = profile
-            if ok(names[i]) and extend(i + 1):
-                return True
-        del chosen[names[i]]
-        return False
-
-    return dict(chosen) if extend(0) else None
+    # depth-first over the instances in order, as a loop (one frame per instance would
+    # overflow Python's stack in an assembly of a thousand instances): tried[i] is the
+    # number of names[i]'s profiles tried on the current branch
+    tried = [0] * len(names)
+    i = 0
+    while 0 <= i < len(names):
+        profiles = options[names[i]]
+        while tried[i] < len(profiles):
+            chosen[names[i]] = profiles[tried[i]]
+            tried[i] += 1
+            if ok(names[i]):
+                i += 1
+                break
+        else:  # no profile fits the ones before it: back to the previous instance
+            chosen.pop(names[i], None)
+            tried[i] = 0
+            i -= 1
+    return dict(chosen) if i == len(names) else None
 
 
 def resolve(assembly_name: str, components: dict, links: list[Link],

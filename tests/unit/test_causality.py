@@ -103,3 +103,13 @@ def test_a_choice_that_fits_every_connection_but_leaves_an_input_open_is_named()
     ok.add("part", TwoPorts())
     ok.connect("drv.flange", "part.p1")
     assert ok.resolve_causality()["part"] == "B"
+
+
+def test_a_thousand_block_chain_resolves_without_a_deep_stack():
+    """The search walks the instances in a loop: one stack frame per instance overflowed
+    Python's stack (RecursionError) in an assembly of about a thousand instances."""
+    from benchmarks.chain import friction_chain
+    chosen = friction_chain(1000).resolve_causality()
+    assert len(chosen) == 3001
+    assert {chosen[f"block{i}"] for i in range(1, 1001)} == {"on_moving_support"}
+    assert {chosen[f"link{i}"] for i in range(1, 1001)} == {"between_masses"}
