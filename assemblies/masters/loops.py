@@ -27,6 +27,48 @@ class LoopError(MechfmuError, RuntimeError):
     """A loop did not converge; the message names the FMUs and the couplings."""
 
 
+def strongly_connected(nodes, successors) -> list[list]:
+    """The strongly connected components (Tarjan) of the graph that `successors(node)`
+    gives, each emitted after every component it reaches; roots taken from `nodes` in
+    order. A loop with its own stack, not one Python frame per node, so that a long chain
+    of dependencies cannot overflow the interpreter's stack."""
+    index, low, on_stack, stack, groups = {}, {}, set(), [], []
+
+    def enter(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        return v, iter(successors(v))
+
+    for root in nodes:
+        if root in index:
+            continue
+        work = [enter(root)]
+        while work:
+            v, todo = work[-1]
+            for w in todo:
+                if w not in index:
+                    work.append(enter(w))
+                    break
+                if w in on_stack:
+                    low[v] = min(low[v], index[w])
+            else:  # every successor of v seen: v is done
+                work.pop()
+                if work:
+                    parent = work[-1][0]
+                    low[parent] = min(low[parent], low[v])
+                if low[v] == index[v]:
+                    group = []
+                    while True:
+                        w = stack.pop()
+                        on_stack.discard(w)
+                        group.append(w)
+                        if w == v:
+                            break
+                    groups.append(group)
+    return groups
+
+
 def coupling_groups(couplings, depends, inputs) -> list[list[int]]:
     """Indices of `couplings` grouped into strongly connected components, sources first.
 
@@ -47,32 +89,7 @@ def coupling_groups(couplings, depends, inputs) -> list[list[int]]:
     for i, c2 in enumerate(couplings):
         d = deps(*c2.source)
         needs[i] = [j for j in feeding.get(c2.source[0], ()) if couplings[j].target[1] in d]
-    index, low, on_stack, stack, groups = {}, {}, set(), [], []
-
-    def strong(v):
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on_stack.add(v)
-        for w in needs[v]:
-            if w not in index:
-                strong(w)
-                low[v] = min(low[v], low[w])
-            elif w in on_stack:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            group = []
-            while True:
-                w = stack.pop()
-                on_stack.discard(w)
-                group.append(w)
-                if w == v:
-                    break
-            groups.append(sorted(group))
-
-    for v in range(len(couplings)):
-        if v not in index:
-            strong(v)
-    return groups
+    return [sorted(group) for group in strongly_connected(range(len(couplings)), needs.__getitem__)]
 
 
 def is_loop(group, couplings, depends, inputs) -> bool:

@@ -40,6 +40,7 @@ from ..inputs import with_inputs
 from ..foreign import check_mode
 from ..result import Result, Table
 from .hybrid import METHODS, IntegrationError, integrate
+from .loops import strongly_connected
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
@@ -184,33 +185,11 @@ def _resolve_couplings(assembly, members, tables, feeds) -> tuple[dict, set]:
 
 
 def _on_cycles(graph: dict) -> set:
-    """The nodes of `graph` (node -> nodes it reads) that lie on a cycle (Tarjan)."""
-    index, low, stack, on_stack, out = {}, {}, [], set(), set()
-
-    def visit(v):
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on_stack.add(v)
-        for w in graph.get(v, ()):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on_stack:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            component = []
-            while True:
-                w = stack.pop()
-                on_stack.discard(w)
-                component.append(w)
-                if w == v:
-                    break
-            if len(component) > 1 or v in graph.get(v, ()):
-                out.update(component)
-
-    for v in graph:  # graphs of an assembly's couplings: depth is a few dozen at most
-        if v not in index:
-            visit(v)
+    """The nodes of `graph` (node -> nodes it reads) that lie on a cycle."""
+    out = set()
+    for component in strongly_connected(graph, lambda v: graph.get(v, ())):
+        if len(component) > 1 or component[0] in graph.get(component[0], ()):
+            out.update(component)
     return out
 
 
