@@ -12,6 +12,7 @@ from assemblies.masters.cosim import cosimulate
 from assemblies.masters.me import simulate_me
 from assemblies.masters.monolithic import simulate_monolithic
 from assemblies.scenes import scene
+from assemblies.scenes.damper_references import Beam, Pad, damper_solution
 
 NAME = "beam_friction_damper"
 # 10 s hold every event of the run: the pad slips at t = 0, reverses and re-sticks
@@ -36,6 +37,49 @@ def test_beam_friction_damper_figures():
     assert 8.0 < figures["t_stick"].measured < 9.0
     assert figures["omega_stuck"].error < 1e-8
     assert all(f.passed for f in figures.values()), figures
+
+
+def test_t_stick_is_held_to_an_independent_integration_and_can_fail():
+    # Before: t_stick's reference was the measured value itself (accuracy 0), so it
+    # passed whatever the run did. Now the reference is damper_references' event-driven
+    # scipy integration; a run whose final stick is moved by 1e-4 s must fail.
+    sc = scene(NAME)
+    asm = sc.build()
+    res = simulate_monolithic(asm, sc.stop_time, sc.step, sc.tolerance, record=sc.record)
+    figures = {f.name: f for f in sc.figures(res, asm)}
+    stick = figures["t_stick"]
+    assert stick.passed and stick.error < stick.bound < 1e-6, stick
+    assert figures["mode_changes"].measured == figures["mode_changes"].reference == 16 + 1
+    assert figures["t_events"].passed, figures["t_events"]
+    res.events["pad"]["time"][-1] += 1e-4
+    moved = {f.name: f for f in sc.figures(res, asm)}
+    assert not moved["t_stick"].passed and not moved["t_events"].passed
+
+
+def test_the_reference_beam_is_the_seeds_ritz_cantilever():
+    # Independent of the library's beam: poly2 (x^2, x^3) by Rayleigh-Ritz gives
+    # omega_1 = 3.5327 and omega_2 = 34.807 sqrt(EI / (m L^3)) (the classic two-term
+    # result); the sine shapes, integrated by quad, converge from above to the exact
+    # cantilever's (beta L)^2 = 3.51602, 22.0345.
+    poly2 = Beam.of("poly2", 0, EI=2.0, L=1.5, m=3.0).frequencies()
+    scale = math.sqrt(2.0 / (3.0 * 1.5**3))
+    np.testing.assert_allclose(poly2 / scale, [3.5327, 34.807], rtol=2e-5)
+    sine = Beam.of("sine", 4, EI=1.0, L=1.0, m=1.0).frequencies()[:2]
+    assert np.all(sine > [3.51602, 22.0345]) and np.all(sine < [3.51602 * 1.005, 22.0345 * 1.02])
+
+
+def test_reference_pad_that_cannot_slip_never_changes_mode():
+    # mu_s N above the largest contact force the released beam can exert (k x w_tip0):
+    # the pad holds, and the reference's beam keeps its energy (no damping)
+    beam = Beam.of("poly2", 0, EI=1.0, L=1.0, m=1.0)
+    pad = Pad(m=0.05, k=1.0, d=0.0, N=1.0, mu_s=0.2, mu_k=0.1)
+    a0 = np.linalg.solve(beam.K, beam.tip) * 0.1 / (beam.tip @ np.linalg.solve(beam.K, beam.tip))
+    changes, (a, a_dot, x, v, mode) = damper_solution(beam, pad, a0, [0.0, 0.0], 0.0, 0.0, 0, 10.0)
+    assert changes == [] and mode == 0 and x == 0.0
+
+    def energy(a, a_dot):
+        return (a_dot @ beam.M @ a_dot + a @ beam.K @ a + pad.k * (beam.tip @ a) ** 2) / 2
+    assert abs(energy(a, a_dot) - energy(a0, np.zeros(2))) < 1e-10
 
 
 def test_me_and_monolithic_agree_to_the_tolerance():
