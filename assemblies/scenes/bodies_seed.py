@@ -13,6 +13,8 @@ from components.bodies.seed_bodies import HemisphericalShell, InclinedCylinder, 
 from ..assembly import Assembly
 from ..result import Result
 from .axle import period_from_crossings
+from .nutation_references import (excess_energy, excess_error, fast_log_error, harmonic_slope,
+                                  nutation, nutation_decay_rate, ripple_tail, transverse_state)
 from .bodies_plot import plot_cylinder, plot_damper, plot_rod, plot_shell, plot_wobble
 from .scene import DRIFT, Figure, Scene, solver_accuracy
 
@@ -345,7 +347,13 @@ def _thrown_figures(result: Result, asm: Assembly) -> list[Figure]:
 
 # --- nutation_damper: seed 8.3.1 ------------------------------------------------------
 SETTLED = 1e-3  # excess energy / final energy below which the nutation is linear
-DECAY_WINDOW = (1e-6, 1e-3)  # excess energies the decay rate is fitted between
+DECAY_WINDOW = (1e-7, 1e-4)  # excess energies / final energy the decay rate is fitted
+                             # between: low enough that the cubic terms the linear rate
+                             # neglects (relative size ~ the excess) stay 1e-4 of it
+RIPPLE_HARMONICS = 3  # harmonics of 2 Omega fitted with the line: the tail left is
+                      # 2 q^4 / (4 (1 - q)), 4e-11 at the default's q = 0.0077
+NONLINEAR = 2.0  # the rate's relative error per unit excess / final energy at the
+                 # window's top (the cubic terms' relative size, doubled)
 
 
 def _damper() -> Assembly:
@@ -356,22 +364,6 @@ def _axes(p: dict) -> tuple[np.ndarray, int]:
     """The locked moments I + J (body and sphere turning together) and the major axis."""
     locked = np.array([p["I_xx"], p["I_yy"], p["I_zz"]]) + p["J"]
     return locked, int(np.argmax(locked))
-
-
-def nutation_decay_rate(I: tuple[float, float, float], J: float, c: float, H: float,
-                        major: int) -> float:
-    """Slowest decay rate of small nutation about pure spin on the major axis, from the
-    linearised equations (same sphere, own derivation): axes renamed cyclically so that
-    the major is z, spin W = H / (I_z + J), unknowns (w_x, w_y, sigma_x, sigma_y):
-    I_x w_x' = -W (I_z - I_y) w_y + c sigma_x,   I_y w_y' = -W (I_x - I_z) w_x + c sigma_y,
-    J (w_x' + sigma_x') = J W sigma_y - c sigma_x,  J (w_y' + sigma_y') = -J W sigma_x - c sigma_y.
-    The excess energy falls like exp(-2 rate t)."""
-    Ix, Iy, Iz = (I[(major + k) % 3] for k in (1, 2, 3))
-    W = H / (Iz + J)
-    M = np.array([[Ix, 0, 0, 0], [0, Iy, 0, 0], [J, 0, J, 0], [0, J, 0, J]])
-    A = np.array([[0, -W * (Iz - Iy), c, 0], [-W * (Ix - Iz), 0, 0, c],
-                  [0, 0, -c, J * W], [0, 0, -J * W, -c]])
-    return float(-np.linalg.eigvals(np.linalg.solve(M, A)).real.max())
 
 
 def _first_below(t: np.ndarray, y: np.ndarray, level: float) -> float:
@@ -400,19 +392,8 @@ def _damper_figures(result: Result, asm: Assembly) -> list[Figure]:
         -2 * rate * (float(t[-1]) - _first_below(t, excess, SETTLED * T_final)))
     energy = solver_accuracy(result, T[0], DRIFT)
     middle = float(np.sort(locked)[1])
-    window = (excess >= DECAY_WINDOW[0] * T_final) & (excess <= DECAY_WINDOW[1] * T_final)
-    window &= t <= _first_below(t, excess, DECAY_WINDOW[0] * T_final)
-    fitted, fit_error = math.nan, math.nan
-    if window.sum() > 10:
-        tw, logs = t[window], np.log(excess[window])
-        slope, offset = np.polyfit(tw, logs, 1)
-        fitted = -slope / 2
-        # a least-squares slope moves by at most 3 d / W for data within d of a line
-        # over a window W (d: the ripple, read off the residuals); and the rate itself
-        # is off the linear one by the relative size of the neglected terms, the excess
-        # at the window's top (1e-3), doubled
-        d = float(np.abs(logs - (slope * tw + offset)).max())
-        fit_error = 3 * d / (tw[-1] - tw[0]) / 2 + 2 * DECAY_WINDOW[1] * rate
+    fitted, fit_error = _decay_fit(result, (p["I_xx"], p["I_yy"], p["I_zz"]), p["J"], p["c"],
+                                   H, major, T_final)
     return [Figure("H_drift", "largest |H(t) - H(0)| / |H| in ground axes (internal torques: 0)",
                    float(np.linalg.norm(H_ground - H_ground[0], axis=1).max()) / H, 0.0,
                    solver_accuracy(result, 1.0, DRIFT),
@@ -433,9 +414,43 @@ def _damper_figures(result: Result, asm: Assembly) -> list[Figure]:
                    math.sqrt(2 * settled / (H**2 * (1 / middle - 1 / locked[major])))
                    + solver_accuracy(result, 1.0, DRIFT),
                    source="seed 8.3.1 (ends spinning about the major axis)"),
-            Figure("decay", "nutation decay rate [1/s] from the excess energy vs linearised",
-                   fitted, rate, fit_error,
+            Figure("decay", "nutation decay rate [1/s]: line + 3 harmonics of twice the "
+                   "nutation frequency fitted to ln(excess energy) while it falls from 1e-4 "
+                   "to 1e-7 of the final energy, vs linearised; accuracy: the ripple "
+                   "series' tail, the other pair's share, the solver's error, the cubic "
+                   "terms", fitted, rate, fit_error,
                    source="linearised nutation decay rate (derived here, not in the seed)")]
+
+
+def _decay_fit(result: Result, I, J: float, c: float, H: float, major: int,
+               T_final: float) -> tuple[float, float]:
+    """(decay rate, its error bound) from ln of the excess energy over DECAY_WINDOW (see
+    nutation_references): a line plus the ripple's harmonics, the misfit bounded per
+    sample by the ripple series' tail, the faster pair's share (from the state where
+    the window opens) and the solver's error in the excess; plus the rate's modelling
+    error, NONLINEAR x the window's top."""
+    t = result["time"]
+    w = np.stack([result[f"body.w_{a}"] for a in "xyz"], axis=1)
+    h = np.stack([result[f"body.h_{a}"] for a in "xyz"], axis=1)
+    excess = excess_energy(I, J, major, w, h)
+    top, bottom = (level * T_final for level in DECAY_WINDOW[::-1])
+    i1 = int(np.argmax(excess <= top))
+    i2 = int(np.argmax(excess <= bottom))
+    if excess[i1] > top or excess[i2] > bottom or i2 - i1 < 4 * RIPPLE_HARMONICS + 8:
+        return math.nan, math.nan  # never linear enough, or not for long enough: a FAIL
+    # the spin's sign: the body may end turning either way about its major axis (the
+    # rate is the same, the linear motion's sense of rotation is not)
+    H = math.copysign(H, h[i1, major])
+    lin = nutation(I, J, c, H, major)
+    span = slice(i1, i2 + 1)
+    slope, weights = harmonic_slope(t[span], np.log(excess[span]), 2 * lin.omega,
+                                    RIPPLE_HARMONICS)
+    solver = excess_error(I, J, major, w[span], h[span],
+                          solver_accuracy(result, 1.0, DRIFT)) / excess[span]
+    y1 = transverse_state(major, w[i1:i1 + 1], h[i1:i1 + 1], I, J)[0]
+    fast = fast_log_error(I, J, c, H, major, y1, t[span] - t[i1])
+    misfit = ripple_tail(lin.rho, RIPPLE_HARMONICS) + solver + fast
+    return -slope / 2, float(np.abs(weights) @ misfit) / 2 + NONLINEAR * DECAY_WINDOW[1] * lin.rate
 
 
 _DISK_RECORD = _record("disk", ["phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot", "n_X",
