@@ -49,25 +49,38 @@ SPEED = 0.05                              # Eq. 9.4's driven end [m/s]
 
 
 # --- what a run promises ---------------------------------------------------------------
-def _tolerance(result: Result, drive_omega: float | None = None) -> float:
-    """The relative error a run controls: its solvers' tolerance. Co-simulating a block
-    driven along a sine of angular frequency `drive_omega`, the drive's motion is
-    extrapolated over each communication step (to second order, with v and a), so the
-    coupling errs too: by the adaptive steps' tolerance, or with fixed steps h by
-    (omega h)^3 / 6 of the amplitude per step. A constant-speed drive is extrapolated
-    exactly and adds nothing."""
+def _coupling_error(result: Result, drive: tuple[float, float, float] | None) -> float:
+    """How far co-simulating a sine drive may move the block's state [m, m/s].
+
+    `drive` = (U, omega, w0): the drive's amplitude and angular frequency, the block's
+    sqrt(k / m). The master extrapolates the drive's motion over each communication
+    step with a Taylor polynomial of order p (its ``extrapolation``), which misses a
+    sine of amplitude U by at most U (omega tau)^(p+1) / (p+1)! after tau; the spring
+    turns that into a force error k times it, a velocity impulse of at most
+    w0^2 U omega^(p+1) h^(p+2) / (p+2)! over a step h. A Coulomb oscillator carries an
+    impulse dv on as a change of at most dv in its speed and dv / w0 in its position
+    (its motion between events is a rotation in (x, v / w0), and a turning point,
+    where v = 0, moves x to second order only), so summed over the run, without
+    cancellation, the state errs by at most w0^2 U omega^(p+1) h_max^(p+1) t_end /
+    (p+2)! x max(1, 1 / w0), h_max the longest step the run took (fixed: the step).
+    Zero for a run that is not co-simulated."""
     s = result.settings
-    tol = s["tolerance"]
-    if drive_omega is not None and s.get("scheme") in ("jacobi", "gauss-seidel"):
-        tol = max(tol, s["tol"] if s.get("adaptive") else (drive_omega * s["step"]) ** 3 / 6)
-    return tol
+    if drive is None or s.get("scheme") not in ("jacobi", "gauss-seidel"):
+        return 0.0
+    U, omega, w0 = drive
+    p = int(s.get("extrapolation") or 0)
+    h = s.get("h_max") or s["step"]
+    t_end = float(result["time"][-1] - result["time"][0])
+    return (w0**2 * U * omega ** (p + 1) * h ** (p + 1) * t_end / math.factorial(p + 2)
+            * max(1.0, 1 / w0))
 
 
 def _accuracy(result: Result, scale: float = 1.0, factor: float = 100.0,
-              drive_omega: float | None = None) -> float:
+              drive: tuple[float, float, float] | None = None) -> float:
     """As :func:`.scene.solver_accuracy` (100 x the tolerance: event times and states at
-    events), with the coupling's error where a sine drive is co-simulated."""
-    return factor * _tolerance(result, drive_omega) * max(1.0, abs(scale))
+    events), plus the coupling's error where a sine `drive` is co-simulated
+    (:func:`_coupling_error`)."""
+    return factor * result.settings["tolerance"] * max(1.0, abs(scale)) + _coupling_error(result, drive)
 
 
 def _held_input_delay(result: Result) -> float:
@@ -150,7 +163,8 @@ def _driven(result: Result, asm: Assembly, drive: str, block: str) -> dict:
     return dict(m=b["m"], k=b["k"], g=b["g"], mu_s=b["mu_s"], mu_k=b["mu_k"], U=s["U"],
                 omega=s["omega"], x0=asm.component(block).starts["x"],
                 v0=asm.component(block).starts["v"],
-                acc=lambda scale: _accuracy(result, scale, drive_omega=s["omega"]))
+                acc=lambda scale: _accuracy(result, scale,
+                                            drive=(s["U"], s["omega"], math.sqrt(b["k"] / b["m"]))))
 
 
 def _exact(p: dict, t_end: float):
@@ -353,17 +367,24 @@ def _resonance_eq_9_10_figures(result: Result, asm: Assembly) -> list[Figure]:
         # local error at tol: accumulated over the run like a conservation figure's
         figures.append(Figure(f"{name}_x", f"U = {U:g}: largest |x - x_Eq.9.10| over the run "
                               "[m]", float(np.abs(result[f"{name}.x"] - x_ref).max()), 0.0,
-                              _accuracy(result, x0, DRIFT_910, drive_omega=1.0),
+                              _accuracy(result, x0, DRIFT_910,
+                                        drive=(U, asm.component(f"{name}_drive").values["omega"],
+                                               math.sqrt(b["k"] / b["m"]))),
                               source=EQ_9_10))
     # Fig. 9.6's claim: no resonant growth at U = 0.4, |x| over the last forcing period
     # far below its start (the reference's, at the same output times)
     last = t >= t[-1] - 2 * math.pi
     x0 = asm.component("below").starts["x"]
+    below = asm.component("below").values
+    U_below = asm.component("below_drive").values["U"]
+    omega_below = asm.component("below_drive").values["omega"]
+    w0_below = math.sqrt(below["k"] / below["m"])
     figures.append(Figure("below_amp", "U = 0.4: largest |x| over the last forcing period "
                           "[m] (no growth: far below x(0) = 10)",
                           float(np.abs(result["below.x"][last]).max()),
                           float(np.abs(refs["below"][0][last]).max()),
-                          _accuracy(result, x0, DRIFT_910, drive_omega=1.0), source=EQ_9_10))
+                          _accuracy(result, x0, DRIFT_910, drive=(U_below, omega_below, w0_below)),
+                          source=EQ_9_10))
     # growth: the seed's resonant rate from the run's turning points once locked, as in
     # resonance_growth; the tanh law departs from Coulomb's only while |x'| < 20 x 0.001
     # (beyond, |tanh - sign| < 1e-17), which each reversal crosses in at most

@@ -238,3 +238,25 @@ def test_eq_9_10_as_printed_shows_the_seeds_two_figures():
     last = t > t[-1] - 2 * math.pi
     assert np.abs(res["below.x"][last]).max() < 2.0
     assert np.abs(res["growth.x"][last]).max() > 8.7
+
+
+def test_cosim_resonance_accuracies_come_from_the_drives_extrapolation():
+    """Issue 29: co-simulated, resonance_growth's accuracies were 100 x the adaptive
+    tolerance x the amplitude (1e-2 for a turning point, 5e-4 for the rate: the
+    tolerance is not what bounds a sine drive's coupling). Now each state figure adds the
+    extrapolated drive's truncation summed over the run, w0^2 U omega^3 h_max^3 t_end /
+    4! (U = omega = w0 = 1 here), to the FMUs' own 100 x tol."""
+    r = run("resonance_growth", "cosim")
+    s = r.result.settings
+    coupling = s["h_max"] ** 3 * 80.0 / 24
+    figures = {f.name: f for f in r.figures}
+    last = figures["A_last"]
+    # scale: the larger of |x| there and |x(0)| = 10
+    assert last.bound == pytest.approx(100 * s["tolerance"] * 10.0 + coupling)
+    assert last.bound < 1e-3 and figures["rate"].bound < 1e-4
+    assert r.passed, r.table()
+    # fixed steps of 0.05 s, quadratic extrapolation: the coupling error is what is left
+    # (far above the FMUs' 100 x tol), and the bound covers it
+    fixed = run("resonance_growth", "cosim", adaptive=False, extrapolation=2)
+    last = {f.name: f for f in fixed.figures}["A_last"]
+    assert 100 * 1e-10 * 10 < last.error <= last.bound, last
