@@ -233,6 +233,22 @@ def animation_record(scene) -> list[str] | None:
     return list(dict.fromkeys([*scene.record, *extra]))
 
 
+def ffmpeg_executable() -> str | None:
+    """The ffmpeg that writes .mp4: the one on the PATH, else the binary the optional
+    imageio-ffmpeg wheel ships (``pip install mechfmu[animate]``), else None."""
+    found = shutil.which("ffmpeg")
+    if found:
+        return found
+    try:
+        import imageio_ffmpeg
+    except ImportError:
+        return None
+    try:
+        return imageio_ffmpeg.get_ffmpeg_exe()
+    except RuntimeError:  # the wheel's binary missing (a platform it does not cover)
+        return None
+
+
 def check_animation_file(path: str | Path) -> Path:
     """The --animate file, checked before the run: .gif (Pillow) or .mp4 (needs ffmpeg)."""
     path = Path(path)
@@ -240,9 +256,10 @@ def check_animation_file(path: str | Path) -> Path:
     if suffix not in (".gif", ".mp4"):
         raise AssemblyError(f"--animate {path}: the file must end in .gif or .mp4, not "
                             f"'{path.suffix or '(no suffix)'}'")
-    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
-        raise AssemblyError(f"--animate {path}: writing .mp4 needs ffmpeg on the PATH, and "
-                            "there is none; install ffmpeg or write a .gif")
+    if suffix == ".mp4" and ffmpeg_executable() is None:
+        raise AssemblyError(f"--animate {path}: writing .mp4 needs ffmpeg, and there is none "
+                            "on the PATH nor from imageio-ffmpeg; pip install "
+                            "'mechfmu[animate]' (or install ffmpeg) or write a .gif")
     if not path.parent.is_dir():
         raise AssemblyError(f"--animate {path}: folder {path.parent} does not exist")
     return path
@@ -305,12 +322,17 @@ def animate(result: Result, assembly, path: str | Path, title: str = "",
         return []
 
     animation = FuncAnimation(fig, update, frames=len(chosen), blit=False)
-    writer = PillowWriter(fps=fps) if path.suffix.lower() == ".gif" else FFMpegWriter(fps=fps)
-    animation.save(str(path), writer=writer, dpi=80)
+    import matplotlib
+    gif = path.suffix.lower() == ".gif"
+    # matplotlib looks for "ffmpeg" on the PATH unless told where it is
+    settings = {} if gif else {"animation.ffmpeg_path": ffmpeg_executable()}
+    with matplotlib.rc_context(settings):
+        animation.save(str(path), writer=PillowWriter(fps=fps) if gif else FFMpegWriter(fps=fps),
+                       dpi=80)
     plt.close(fig)
     return labels
 
 
 __all__ = ["DRAWERS", "Pose", "animate", "animation_record", "bodies", "box_dimensions",
-           "box_edges", "check_animation_file", "circle", "frame_indices",
+           "box_edges", "check_animation_file", "circle", "ffmpeg_executable", "frame_indices",
            "quaternion_matrices"]
