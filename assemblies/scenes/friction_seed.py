@@ -408,7 +408,9 @@ def _resonance_eq_9_10_figures(result: Result, asm: Assembly) -> list[Figure]:
     figures.append(Figure("rate", f"U = {U:g}: growth of |x| at its turning points after "
                           f"t = {RATE_910_FROM:g} s [m/s] vs (U pi - 4 mu) / (2 pi)", slope,
                           resonance_growth_rate(b["m"], b["k"], b["g"], b["mu_k"], U),
-                          band / math.pi + spread * lock + spread * _accuracy(result, 10.0),
+                          band / math.pi + spread * lock + spread * _accuracy(
+                              result, 10.0, drive=(U, asm.component("growth_drive").values["omega"],
+                                                   math.sqrt(b["k"] / b["m"]))),
                           source="seed 9.5 (the rate is Coulomb's; Eq. 9.10 smooths it within "
                           "the band bound)"))
     return figures
