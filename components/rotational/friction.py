@@ -205,7 +205,8 @@ class Clutch(_TableFriction):
 
     ``w_rel = flange_b.w - flange_a.w``;
     ``fn = fn_max f_normalized``; sliding ``tau = cgeo mu(|w_rel|) fn sign(w_rel)``;
-    stuck while the torque needed stays within ``peak cgeo mu(0) fn``. The driven side
+    stuck while the torque needed stays within ``peak cgeo mu(0) fn``; free (MSL's
+    ``free``: fn reported 0, no torque, never stuck) while ``f_normalized <= 0``. The driven side
     (inertia ``J``, flange_b) is part of the element; flange_a takes the motion of the
     driving side in (a speed source, a spring end: something whose motion does not
     depend on this clutch's torque at the same instant).
@@ -255,8 +256,7 @@ Brake = RotationalBrake  # MSL's name inside the rotational package
 
 
 class OneWayClutch(Clutch):
-    """Clutch in parallel with a freewheel, its driven side an inertia J (MSL
-    Rotational.Components.OneWayClutch).
+    """Clutch in parallel with a freewheel, its driven side an inertia J (MSL Rotational.Components.OneWayClutch).
 
     ``w_rel = flange_b.w - flange_a.w`` never falls below 0: the driven side may overrun
     the driver (``w_rel > 0``), never lag it. Overrunning, the clutch slides forward with
