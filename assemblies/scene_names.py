@@ -139,5 +139,11 @@ SCENE_INDEX = {
     'coupled_clutches': ('msl_rotational',
         'MSL Rotational.Examples.CoupledClutches: four inertias, three clutches engaging '
         'and releasing in turn (exact lock/break-away events)'),
+    'rotational_friction': ('msl_rotational_friction',
+        'MSL Rotational.Examples.Friction: a driven inertia, a clutch, a spring-damper '
+        'and a brake engaged at 0.5 s (exact stick/slip events)'),
+    'rotational_one_way_clutch': ('msl_rotational_friction',
+        'MSL Rotational.Examples.OneWayClutch: a one-way clutch engaged by a pulse '
+        'between two inertias (exact lock/overrun events, freewheel)'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

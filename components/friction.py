@@ -14,7 +14,8 @@ ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
 
 def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limit,
-                  kinetic_limit, mode: str = "mode", base=0) -> None:
+                  kinetic_limit, mode: str = "mode", base=0, one_way: bool = False,
+                  free=None) -> None:
     """Write the residual, indicators and jumps of exact Coulomb friction.
 
     `speed` names the state holding the relative velocity (it is reset to exactly 0
@@ -24,23 +25,37 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
     velocity of the other side of the contact when the state is an absolute velocity
     (a clutch's driven side, its driver's speed an input): the relative velocity is
     then ``state - base`` and a slide ends by setting the state to ``base``.
+    `one_way`: a freewheel in parallel (MSL's OneWayClutch): stuck, the contact holds
+    against any backward push, so it never breaks free backward; a forward slide that
+    stops locks. Mode -1 is then reached only from a backward relative speed at an
+    event (a start value MSL rules out), which the caller must treat as an error.
+    `free`: true where the contact carries no force at all (MSL's free mode, a clutch or
+    brake with no normal force; both limits must then be 0): it neither sticks nor ends
+    a slide (no reset of the state), its mode only follows the relative speed's sign, so
+    that the contact slides the right way once pressed again.
     """
     q, v = getattr(e.q, mode), getattr(e.x, speed) - base
-    e.residual(ca.if_else(q == 0, acceleration, friction + kinetic_limit * q))
+    # without `free`, the expressions (and the generated code) are the two-mode machine's
+    held = q == 0 if free is None else ca.logic_and(q == 0, ca.logic_not(free))
+    e.residual(ca.if_else(held, acceleration, friction + kinetic_limit * q))
     e.indicator(ca.if_else(q == 0, static_limit - applied, q * v),
                 "stuck: static margin for forward slip; sliding: relative speed")
-    e.indicator(ca.if_else(q == 0, static_limit + applied, 1),
+    e.indicator(1 if one_way else ca.if_else(q == 0, static_limit + applied, 1),
                 "stuck: static margin for backward slip")
     # at the threshold itself the contact breaks free: an event located exactly at the
     # zero of the margin must switch the mode, or the contact would stay stuck
     breaks_free = ca.if_else(applied >= static_limit, 1,
-                             ca.if_else(applied <= -static_limit, -1, 0))
+                             0 if one_way else ca.if_else(applied <= -static_limit, -1, 0))
     stopped = ca.logic_and(q != 0, q * v <= 0)
+    settles = ca.logic_or(stopped, q == 0)
+    if free is not None:
+        stopped = ca.logic_and(stopped, ca.logic_not(free))
+        settles = ca.logic_or(settles, free)
     v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
     # the state is rewritten only when the slide ends: base + (state - base) rounds, and a
     # stuck neighbour (its base this state) would read the rounding as a relative speed
     e.jump(speed, ca.if_else(stopped, base, getattr(e.x, speed)))
-    e.jump(mode, ca.if_else(ca.logic_or(stopped, q == 0),
+    e.jump(mode, ca.if_else(settles,
                             ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
 
 

@@ -61,20 +61,24 @@ def _coupled_clutches() -> Assembly:
     return asm
 
 
-def mode_changes(result: Result, instance: str):
-    """(time, settled mode) of each change of `instance`'s mode while engaged (fn > 0).
+def mode_changes(result: Result, instance: str, engaged_only: bool = True,
+                 triggers: tuple[str, ...] = ()):
+    """(time, settled mode) of each change of `instance`'s mode while engaged (fn > 0;
+    every change with `engaged_only` false: a one-way clutch's freewheel), at its own
+    events and at those of the instances `triggers` (a signal whose jump switches it).
 
     An event's rows may show a mode the event iteration then corrects (a stopping
     clutch whose coupled neighbours' accelerations change with its own mode), so the
     settled mode after an event is read from the first output row after it and
     compared with the last row before it; events less than 1e-9 s apart are one.
     """
-    ev = result.events.get(instance)
-    if ev is None:
+    tables = [result.events[k] for k in (instance, *triggers) if k in result.events]
+    if not tables:
         return []
-    t, mode, fn = (np.asarray(result[c]) for c in ("time", f"{instance}.mode", f"{instance}.fn"))
+    t, mode = np.asarray(result["time"]), np.asarray(result[f"{instance}.mode"])
+    fn = np.asarray(result[f"{instance}.fn"]) if engaged_only else np.ones_like(t)
     out, cluster = [], -math.inf
-    for te in np.asarray(ev["time"]):
+    for te in np.sort(np.concatenate([np.asarray(ev["time"]) for ev in tables])):
         if te - cluster < 1e-9:
             continue
         cluster = te

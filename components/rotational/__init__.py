@@ -17,6 +17,7 @@ WHERE = {
     "IdealGear": ".rigid",
     "Inertia": ".rigid",
     "Motor": ".elements",
+    "OneWayClutch": ".friction",
     "RotationalDamper": ".elements",
     "RotationalFixed": ".rigid",
     "RotationalSpring": ".elements",

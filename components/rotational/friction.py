@@ -101,12 +101,14 @@ class _TableFriction(Component):
         return interpolate(speed, W, V), interpolate(0, W, V)
 
 
-def _friction(e, *, speed, acceleration, applied, static, kinetic, base=0):
+def _friction(e, *, speed, acceleration, applied, static, kinetic, base=0, one_way=False,
+              free=None):
     """The mode machine on the speed state `speed` relative to `base`; returns the
     friction torque on the body."""
     f = e.unknown("tau_friction")
     coulomb_modes(e, speed=speed, acceleration=acceleration, friction=f, applied=applied,
-                  static_limit=static, kinetic_limit=kinetic, base=base)
+                  static_limit=static, kinetic_limit=kinetic, base=base, one_way=one_way,
+                  free=free)
     w = getattr(e.x, speed) - base
     e.residual(e.der.W_loss + f * w)
     e.output("tau", -f, "N.m", "friction torque, MSL's sign (positive for forward sliding)")
@@ -118,6 +120,12 @@ _BODY_STATES = (State("phi", 0.0, "rad", "absolute angle of the held inertia"),
                 State("w", 0.0, "rad/s", "absolute angular velocity of the held inertia"), _LOSS)
 _BODY_PORTS = (Port("flange_a", ROTATIONAL, "left flange of the held shaft"),
                Port("flange_b", ROTATIONAL, "right flange of the held shaft"))
+
+
+def _normal_force(e):
+    """MSL's ``fn``: ``fn_max f_normalized``, and 0 where the element is free
+    (``f_normalized <= 0``: no friction torque, neither stuck nor sliding)."""
+    return ca.fmax(e.p.fn_max * e.port("f_normalized"), 0)
 
 
 def _body(e, friction_of):
@@ -180,14 +188,15 @@ class RotationalBrake(_TableFriction):
                         {"flange_a": FORCE_IN, "flange_b": FORCE_IN, "f_normalized": SIGNAL_IN}),)
 
     def equations(self, e):
-        fn = e.p.fn_max * e.port("f_normalized")
+        fn = _normal_force(e)
         e.output("fn", fn, "N", "normal force")
 
         def friction(applied, acceleration):
             mu, mu0 = self.characteristic(e, e.q.mode * e.x.w)
-            pressed = e.p.cgeo * ca.fmax(fn, 0)  # free (no friction) when fn <= 0
+            pressed = e.p.cgeo * fn  # free (no friction) when fn <= 0
             return _friction(e, speed="w", acceleration=acceleration, applied=applied,
-                             static=e.p.peak * mu0 * pressed, kinetic=mu * pressed)
+                             static=e.p.peak * mu0 * pressed, kinetic=mu * pressed,
+                             free=fn <= 0)
         _body(e, friction)
 
 
@@ -196,7 +205,8 @@ class Clutch(_TableFriction):
 
     ``w_rel = flange_b.w - flange_a.w``;
     ``fn = fn_max f_normalized``; sliding ``tau = cgeo mu(|w_rel|) fn sign(w_rel)``;
-    stuck while the torque needed stays within ``peak cgeo mu(0) fn``. The driven side
+    stuck while the torque needed stays within ``peak cgeo mu(0) fn``; free (MSL's
+    ``free``: fn reported 0, no torque, never stuck) while ``f_normalized <= 0``. The driven side
     (inertia ``J``, flange_b) is part of the element; flange_a takes the motion of the
     driving side in (a speed source, a spring end: something whose motion does not
     depend on this clutch's torque at the same instant).
@@ -209,6 +219,7 @@ class Clutch(_TableFriction):
     """
 
     fixed_parameters = (_PEAK, _CGEO, _FN_MAX, _J)
+    one_way = False  # OneWayClutch: a freewheel in parallel
     # absolute states of the driven side: free or sliding, its motion does not depend on
     # the driver's acceleration (an input a co-simulation holds over a step)
     states = _BODY_STATES
@@ -221,13 +232,15 @@ class Clutch(_TableFriction):
     def equations(self, e):
         p, a_, b_, a = e.p, e.port("flange_a"), e.port("flange_b"), e.der.w
         w_rel = e.x.w - a_.w
-        fn = p.fn_max * e.port("f_normalized")
+        fn = _normal_force(e)
         mu, mu0 = self.characteristic(e, e.q.mode * w_rel)
-        pressed = p.cgeo * ca.fmax(fn, 0)
+        pressed = p.cgeo * fn
         e.residual(e.der.phi - e.x.w)
         f = _friction(e, speed="w", base=a_.w, acceleration=a - a_.a,
                       applied=b_.tau - p.J * a_.a,  # in the driving side's frame
-                      static=p.peak * mu0 * pressed, kinetic=mu * pressed)
+                      static=p.peak * mu0 * pressed, kinetic=mu * pressed,
+                      # a one-way clutch's freewheel holds with no normal force too
+                      one_way=self.one_way, free=None if self.one_way else fn <= 0)
         e.residual(p.J * a - b_.tau - f)
         e.residual(a_.tau - f)  # the plates: what the driven side feels, the driver feels back
         e.residual(b_.phi - e.x.phi)
@@ -240,3 +253,30 @@ class Clutch(_TableFriction):
 
 
 Brake = RotationalBrake  # MSL's name inside the rotational package
+
+
+class OneWayClutch(Clutch):
+    """Clutch in parallel with a freewheel, its driven side an inertia J (MSL Rotational.Components.OneWayClutch).
+
+    ``w_rel = flange_b.w - flange_a.w`` never falls below 0: the driven side may overrun
+    the driver (``w_rel > 0``), never lag it. Overrunning, the clutch slides forward with
+    ``tau = cgeo mu(w_rel) fn``, or carries no torque while free (``fn = fn_max
+    f_normalized <= 0``); when ``w_rel`` returns to 0 it locks, and locked it holds
+    against any backward torque (the freewheel) and against forward torques up to
+    ``peak cgeo mu(0) fn`` (0 while free: a pure freewheel). MSL's modes: free, stuck
+    (locked or starting forward), forward sliding; exact, with events.
+    MSL's free freewheel starts forward above ``1e-4 cgeo mu(0) fn_max`` (its eps0
+    hysteresis); this one at any positive torque. A start (or a driver's speed jump)
+    with ``w_rel < 0``, which MSL calls physically impossible, ends the run with a
+    message.
+    Parameters, input, states, outputs and connectors as :class:`Clutch`; mode ``mode``:
+    0 stuck, +1 sliding forward (overrunning).
+    """
+
+    one_way = True
+
+    def equations(self, e):
+        super().equations(e)
+        e.terminate_when(ca.if_else(e.q.mode == -1, -1, 1),
+                         "one-way clutch with w_rel = flange_b.w - flange_a.w < 0 (the driven "
+                         "side lags the driver: MSL's OneWayClutch needs w_rel >= 0)")

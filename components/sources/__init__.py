@@ -12,6 +12,7 @@ WHERE = {
     "ConstantForce": ".force",
     "Force": ".force",
     "HarmonicMotion": ".motion",
+    "Product": ".math",
     "SineMotion": ".motion",
     "Ramp": ".signals",
     "Sine": ".signals",

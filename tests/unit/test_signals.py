@@ -48,3 +48,21 @@ def test_signal_follows_msl_formula(kind, values, version, fmi_type):
     # fmpy's grid time k * 0.05 may land a rounding below an instant: read it as on it
     expected = _msl(kind, block.values, t[last] + 1e-12)
     assert np.abs(res["y"][last] - expected).max() < 1e-9, (res["y"][last], expected)
+
+
+@pytest.mark.parametrize("version", [2, 3])
+@pytest.mark.parametrize("fmi_type", ["ModelExchange", "CoSimulation"])
+def test_product_multiplies_its_inputs(version, fmi_type):
+    """MSL Blocks.Math.Product, y = u1 u2, fed two ramps by fmpy (inputs interpolated
+    linearly): y is their product at every output point, a parabola (in co-simulation
+    the inputs fmpy set at the step's start: the product one step earlier)."""
+    from components.sources.math import Product
+    path = build_fmu(Product(), fmi_version=version)
+    signals = np.array([(0.0, 0.0, 3.0), (1.0, 2.0, 1.0)],
+                       dtype=[("time", float), ("u1", float), ("u2", float)])
+    res = fmpy.simulate_fmu(str(path), fmi_type=fmi_type, stop_time=1.0, output_interval=0.1,
+                            input=signals, output=["y"])
+    t = res["time"]
+    if fmi_type == "CoSimulation":
+        t = np.maximum(t - 0.1, 0.0)
+    assert np.abs(res["y"] - 2 * t * (3 - 2 * t)).max() < 1e-12
