@@ -819,8 +819,8 @@ static double noise_share(const controller *k, double h)
     return fmax(NOISE_SHARE_MIN, fmin(1.0, h / k->h_max));
 }
 
-/* `noise`: what the FMUs' own solvers leave, a floor below which the two runs of
-   step doubling cannot agree whatever the step (without it the step would shrink
+/* `noise`: what the FMUs' own solvers leave in the step (noise_share), a floor below
+   which the two runs of step doubling cannot agree (without it the step would shrink
    without end where the coupling error is smaller than that). */
 static int judge(cosim *c, const controller *k, double error, double noise, double defect,
                  int defect_order, double h, double *h_next)
