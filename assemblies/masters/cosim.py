@@ -872,7 +872,7 @@ class _Stepper:
             return True, self.h
         fine = m.state_vector()
         ok, self.h = ctrl.judge(ctrl.estimate(coarse, fine), h_try,
-                                ctrl.noise(fine, self.tolerance), defect, defect_order)
+                                ctrl.noise(fine, self.tolerance, h_try), defect, defect_order)
         if ok and not self.shortened:  # the half step found good, kept a while
             self.coast, self.h_coast = COAST_STEPS, min(h_try, self.h) / 2
         if not ok and h_try <= ctrl.min_step(t):  # rejected at the shortest step there is
