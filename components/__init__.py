@@ -38,7 +38,8 @@ _REGISTERED = (
     "Inertia", "RotationalFixed", "IdealGear", "RotationalSpring", "RotationalDamper",
     "RotationalSpringDamper", "Torque", "ConstantTorque", "QuadraticSpeedDependentTorque",
     "RotationalSpeed", "RotationalPosition", "AngleSensor", "RotationalSpeedSensor",
-    "TorqueSensor", "RotationalPowerSensor", "BearingFriction", "RotationalBrake", "Clutch")
+    "TorqueSensor", "RotationalPowerSensor", "BearingFriction", "RotationalBrake", "Clutch",
+    "ElastoBacklash", "ElastoBacklash2")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 
