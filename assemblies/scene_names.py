@@ -139,5 +139,11 @@ SCENE_INDEX = {
     'coupled_clutches': ('msl_rotational',
         'MSL Rotational.Examples.CoupledClutches: four inertias, three clutches engaging '
         'and releasing in turn (exact lock/break-away events)'),
+    'rotational_first': ('msl_rotational_examples',
+        'MSL Rotational.Examples.First: a sine torque drives a motor through a gear, a '
+        'damped bearing and a spring into a load'),
+    'rotational_backlash': ('msl_rotational_examples',
+        'MSL Rotational.Examples.Backlash: inertias released on a spring-damper, an '
+        'ElastoBacklash and an ElastoBacklash2'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

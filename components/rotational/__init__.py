@@ -21,6 +21,7 @@ WHERE = {
     "Motor": ".elements",
     "RotationalDamper": ".elements",
     "RotationalFixed": ".rigid",
+    "RotationalJunction": ".rigid",
     "RotationalSpring": ".elements",
     "RotationalSpringDamper": ".elements",
     "TorsionalSpring": ".elements",
