@@ -24,7 +24,8 @@ import math
 import numpy as np
 
 from components.rotational.backlash import ElastoBacklash, ElastoBacklash2
-from components.rotational.elements import RotationalDamper, RotationalSpring, RotationalSpringDamper
+from components.rotational.elements import (RotationalDamper, RotationalSpring,
+                                           RotationalSpringDamper)
 from components.rotational.rigid import IdealGear, Inertia, RotationalFixed, RotationalJunction
 from components.sources.rotational import Torque
 from components.sources.signals import Sine
@@ -32,7 +33,7 @@ from components.sources.signals import Sine
 from ..assembly import Assembly
 from ..result import Result
 from . import msl_rotational_examples_references as ref
-from .msl_translational import _work, solver_accuracy
+from .msl_translational import solver_accuracy
 from .scene import DRIFT, Figure, Scene
 
 SOURCE_FIRST = ("independent integration (scipy of MSL's First: gear, damper and spring "
@@ -84,7 +85,8 @@ def _first_figures(result: Result, asm: Assembly) -> list[Figure]:
                    "the run [rad/s]", float(np.max(np.abs(result[f"{name}.w"] - w_ref))), 0.0,
                    solver_accuracy(result, w_scale), source=SOURCE_FIRST)]
     figures.append(Figure("motor_w_end", f"motor speed (idealGear.flange_a.w) at {t[-1]:g} s "
-                          "[rad/s] vs ratio x inertia2's", float(result["idealGear.flange_a.w"][-1]),
+                          "[rad/s] vs ratio x inertia2's",
+                          float(result["idealGear.flange_a.w"][-1]),
                           float(r["w1"][-1]), solver_accuracy(result, np.max(np.abs(r["w1"]))),
                           source=SOURCE_FIRST))
     # the torque's work = kinetic energy of both bodies + the spring's + the damper's loss
@@ -129,11 +131,10 @@ def _contacts(result: Result, element: str) -> list[tuple[float, int]]:
     ev = result.events.get(element)
     if ev is None:
         return []
-    out, last = [], None
+    out = []
+    last = int(result[f"{element}.contact"][0]) if result[f"{element}.tau"][0] else 0
     for t, q, tau in zip(ev["time"], ev[f"{element}.contact"], ev[f"{element}.tau"]):
         now = int(q) if tau != 0 else 0
-        if last is None:
-            last = int(result[f"{element}.contact"][0]) if result[f"{element}.tau"][0] else 0
         if now != last:
             out.append((float(t), now))
             last = now
