@@ -145,5 +145,11 @@ SCENE_INDEX = {
     'rotational_one_way_clutch': ('msl_rotational_friction',
         'MSL Rotational.Examples.OneWayClutch: a one-way clutch engaged by a pulse '
         'between two inertias (exact lock/overrun events, freewheel)'),
+    'rotational_first': ('msl_rotational_examples',
+        'MSL Rotational.Examples.First: a sine torque drives a motor through a gear, a '
+        'damped bearing and a spring into a load'),
+    'rotational_backlash': ('msl_rotational_examples',
+        'MSL Rotational.Examples.Backlash: inertias released on a spring-damper, an '
+        'ElastoBacklash and an ElastoBacklash2'),
 }
 SCENE_NAMES = tuple(SCENE_INDEX)

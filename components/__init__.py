@@ -39,7 +39,7 @@ _REGISTERED = (
     "RotationalSpringDamper", "Torque", "ConstantTorque", "QuadraticSpeedDependentTorque",
     "RotationalSpeed", "RotationalPosition", "AngleSensor", "RotationalSpeedSensor",
     "TorqueSensor", "RotationalPowerSensor", "BearingFriction", "RotationalBrake", "Clutch",
-    "OneWayClutch", "Product")
+    "OneWayClutch", "Product", "ElastoBacklash", "ElastoBacklash2", "RotationalJunction")
 
 __all__ = sorted([*_WHERE, "COMPONENTS"])
 

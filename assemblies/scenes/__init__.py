@@ -27,7 +27,8 @@ FAMILIES = {"friction": "FRICTION_SCENES", "axle": "AXLE_SCENES", "coin": "COIN_
             "sliding": "SLIDING_SCENES", "burridge_knopoff": "BURRIDGE_KNOPOFF_SCENES",
             "msl_translational": "MSL_TRANSLATIONAL_SCENES",
             "msl_rotational": "MSL_ROTATIONAL_SCENES",
-            "msl_rotational_friction": "MSL_ROTATIONAL_FRICTION_SCENES"}
+            "msl_rotational_friction": "MSL_ROTATIONAL_FRICTION_SCENES",
+            "msl_rotational_examples": "MSL_ROTATIONAL_EXAMPLE_SCENES"}
 
 
 def family(module: str) -> dict[str, Scene]:

@@ -20,7 +20,14 @@ c depth; or clipped at that bound), so:
   ``q = A F - A D A F' + A (D A D - M) A F'' + ...`` with A = K^-1, e = e_spool (each
   term from substituting the one before; the transient of the last contact change
   decays as exp(-t / 0.125 s)). :func:`quasi_static` returns the three terms shown and a
-  bound on the next (with the transient's), which is the stated accuracy.
+  bound on the next (with the transient's), which is the stated accuracy;
+- **dynamics** (:func:`dynamics`): the motion itself from MSL's start values, with every
+  ElastoGap's mode (apart; in contact; its damper clipped either way) switched at located
+  events. Within one set of modes the system is linear with a sine force, so the state
+  and the force's sin, cos and 1 form one autonomous linear system z' = A z, solved
+  exactly by the matrix exponential (no step error); each condition of the modes is
+  watched on a look-ahead grid fine enough for the fastest contact motion and located
+  by brentq.
 """
 from __future__ import annotations
 
@@ -200,3 +207,164 @@ def opening_force() -> float:
     base = g @ np.linalg.solve(K, b) + ELEMENTS[k].g0
     slope = g @ np.linalg.solve(K, E_SPOOL)
     return float((ELEMENTS[k].s_rel0 - base) / slope)
+
+
+# --- dynamics ---------------------------------------------------------------------------
+def element_forces(q, v, modes) -> np.ndarray:
+    """Each element's force f (MSL: flange_b.f = f, tension positive) at (q, v), the gaps
+    in `modes` (0 apart; 1 spring + damper; 2 damper clipped at f_c: f = 2 f_c; 3 damper
+    clipped at -f_c: f = 0), written element by element from MSL's laws."""
+    out = np.zeros(len(ELEMENTS))
+    mode = dict(zip(GAPS, modes))
+    for k, e in enumerate(ELEMENTS):
+        s_rel, v_rel = float(np.dot(e.g, q) + e.g0), float(np.dot(e.g, v))
+        if e.kind == "spring":
+            out[k] = SPRING["c"] * (s_rel - e.s_rel0)
+        elif e.kind == "damper":
+            out[k] = FRICTION_D * v_rel
+        else:
+            f_c = -CONTACT["c"] * (e.s_rel0 - s_rel)  # MSL: -c |s_rel - s_rel0| in contact
+            f_d2 = CONTACT["d"] * v_rel
+            out[k] = {0: 0.0, 1: f_c + f_d2, 2: 2 * f_c, 3: 0.0}[mode[k]]
+    return out
+
+
+def _gap_conditions(modes) -> np.ndarray:
+    """Rows a with a . (q, v, 1) positive while each gap stays in its mode (MSL's law is
+    affine in q and v, so are its conditions): depth = s_rel0 - s_rel > 0 in contact,
+    and the damper's f_d2 = d v_rel against its bounds f_c = -c depth and -f_c."""
+    rows = []
+    for k, m in zip(GAPS, modes):
+        e = ELEMENTS[k]
+        g = np.array(e.g, dtype=float)
+        depth = np.concatenate([-g, np.zeros(3), [e.s_rel0 - e.g0]])
+        f_c = -CONTACT["c"] * depth
+        f_d2 = np.concatenate([np.zeros(3), CONTACT["d"] * g, [0.0]])
+        rows += {0: [-depth], 1: [depth, f_d2 - f_c, -f_c - f_d2], 2: [depth, f_c - f_d2],
+                 3: [depth, f_d2 + f_c]}[m]
+    return np.array(rows)
+
+
+def _system(modes) -> np.ndarray:
+    """A of z' = A z in one set of gap modes, z = (q, v, sin w t, cos w t, 1): the motion,
+    the sine force and the constant terms as one autonomous linear system (exact by expm)."""
+    w = 2 * math.pi * SINE["f"]
+    G = np.array([e.g for e in ELEMENTS], dtype=float)  # (elements, bodies)
+
+    def accel(q, v, S, one):
+        f = element_forces(q, v, modes) if one else (
+            element_forces(q, v, modes) - element_forces(np.zeros(3), np.zeros(3), modes))
+        return (SINE["amplitude"] * S * E_SPOOL - G.T @ f) / MASSES
+
+    A = np.zeros((9, 9))
+    A[0:3, 3:6] = np.eye(3)
+    A[6, 7], A[7, 6] = w, -w
+    for j in range(9):  # the forces are affine in (q, v): columns by unit vectors, exactly
+        z = np.zeros(9)
+        z[j] = 1.0
+        A[3:6, j] = accel(z[0:3], z[3:6], z[6], z[8])
+    return A
+
+
+@dataclass
+class Motion:
+    t: np.ndarray
+    q: np.ndarray  # (len(t), 3): spool, springPlateA, springPlateB
+    v: np.ndarray
+    #: (time, gap name, new mode) at each change of a gap's mode
+    events: list
+
+
+#: the look-ahead after each change of modes: doubling from FIRST_LOOK to SHORT, steps of
+#: SHORT until SETTLE, then steps of LONGEST. SHORT samples the fastest motion in contact
+#: (a plate on two clipped gaps, 2e6 N/m on 10 g: 1.4e4 rad/s) 20 times a period; by
+#: SETTLE the slowest contact transient (c/d = 4000 1/s) has decayed by exp(-20), and the
+#: motion left follows the force (period 100 s), which LONGEST samples 5000 times a period
+FIRST_LOOK, SHORT, SETTLE, LONGEST = 1e-9, 2e-5, 5e-3, 0.02
+
+
+def _looks(stop: float):
+    """The look-ahead offsets after a change of modes, up to `stop` (module constants)."""
+    h = FIRST_LOOK
+    while h < SHORT and h < stop:
+        yield h
+        h *= 2
+    h = SHORT
+    while h < SETTLE and h < stop:
+        yield h
+        h += SHORT
+    while h < stop:
+        yield h
+        h += LONGEST
+    yield stop
+
+
+def dynamics(t, stop: float = STOP_TIME) -> Motion:
+    """The motion of MSL's PreLoad from its start values (at rest) under the sine force,
+    M q'' = F(t) e_spool - sum_k f_k g_k (module doc). In one set of gap modes the system
+    is linear, so z(t0 + h) = expm(A h) z(t0) exactly; the conditions of the modes are
+    watched on a look-ahead grid growing from FIRST_LOOK by GROWTH to LONGEST, the first
+    to turn false located by brentq, and the modes read again a moment after it."""
+    from scipy.linalg import expm
+    from scipy.optimize import brentq
+    t = np.asarray(t, dtype=float)
+    w = 2 * math.pi * SINE["f"]
+    time = 0.0
+    z = np.concatenate([Q0, np.zeros(3), [0.0, 1.0, 1.0]])
+    modes = gap_modes(Q0, np.zeros(3))
+    out = np.full((len(t), 6), np.nan)
+    events = []
+    for _ in range(1000):  # a mode change per event: the run has a few dozen
+        A, rows = _system(modes), _gap_conditions(modes)
+
+        def at(h, A=A, z=z):
+            return expm(A * h) @ z
+
+        def margins(zz, rows=rows):
+            return rows @ np.concatenate([zz[:6], [zz[8]]])
+
+        steps = {SHORT: expm(A * SHORT), LONGEST: expm(A * LONGEST)}
+        h_prev, z_prev, found = 0.0, z, None
+        for h in _looks(stop - time):
+            step = h - h_prev
+            # on the fixed steps, one matrix product (the exponential of each step is
+            # computed once per set of modes); elsewhere the exponential itself
+            known = next((E for size, E in steps.items() if abs(step - size) < 1e-15), None)
+            z_h = known @ z_prev if known is not None and h_prev > 0 else at(h)
+            m = margins(z_h)
+            if np.any(m <= 0):  # the earliest of the conditions that turned false
+                before = margins(z_prev)
+                # one already at or below 0 (two conditions crossing within the moment
+                # below): it ends the modes at once
+                found = min(h_prev if before[i] <= 0 else
+                            brentq(lambda x, i=i: margins(at(x))[i], h_prev, h, xtol=1e-15)
+                            for i in np.flatnonzero(m <= 0))
+                break
+            h_prev, z_prev = h, z_h
+        if found is None:
+            end, new = stop, modes
+        else:
+            # the new modes start a moment later along the old ones' motion, once the law
+            # sees the change (a longer moment where the motion is slow); the law is
+            # continuous across every condition, so that moment changes the motion by
+            # O(moment^2) of a jump in the jerk
+            for moment in (1e-9, 1e-8, 1e-7, 1e-6, 1e-5):
+                ahead = at(found + moment)
+                new = gap_modes(ahead[:3], ahead[3:6])
+                if new != modes:
+                    break
+            else:
+                raise RuntimeError(f"PreLoad dynamics: no mode change after t = {time + found}")
+            end = time + found + moment
+        inside = (t >= time) & ((t < end) if found is not None else (t <= end))
+        for k in np.flatnonzero(inside):
+            out[k] = at(t[k] - time)[:6]
+        if found is None:
+            break
+        for k, (old, now) in zip(GAPS, zip(modes, new)):
+            if old != now:
+                events.append((time + found, ELEMENTS[k].name, now))
+        z = at(end - time)
+        z[6], z[7] = math.sin(w * end), math.cos(w * end)  # the forcing kept exact
+        time, modes = end, new
+    return Motion(t, out[:, :3], out[:, 3:], events)

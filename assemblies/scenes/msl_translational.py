@@ -23,7 +23,8 @@ written from MSL's documented equations). Where MSL joins three flanges at one p
 - ``translational_preload``: a spool between two spring plates, a 20 kN/m spring
   preloaded between them and four 1e6 N/m ElastoGap contacts: the spool stays put until
   the 150 N, 0.01 Hz sine force passes the preload (29.4 N), then follows it along the
-  spring; held to the statics and quasi-static response (msl_preload_reference).
+  spring; held to the statics and quasi-static response, to the exact mode-by-mode
+  motion (msl_preload_reference) over the whole run, and to the energy balance.
 """
 from __future__ import annotations
 
@@ -60,8 +61,12 @@ def solver_accuracy(result: Result, scale: float = 1.0, factor: float = 100.0) -
 def _work(result: Result, power: np.ndarray) -> tuple[float, float]:
     """(integral of `power` over the samples by the trapezoid rule, 3 x its Richardson
     error estimate |I_h - I_2h|), the rule's error bound from the samples themselves."""
-    t = result["time"]
-    return float(np.trapezoid(power, t)), 3 * _trapezoid_accuracy(t, power)
+    return _integral(result["time"], power)
+
+
+def _integral(t: np.ndarray, f: np.ndarray) -> tuple[float, float]:
+    """:func:`_work` on the samples (t, f)."""
+    return float(np.trapezoid(f, t)), 3 * _trapezoid_accuracy(t, f)
 
 
 def _events(result: Result, instance: str) -> list[tuple[float, int]]:
@@ -472,6 +477,7 @@ def _preload_figures(result: Result, asm: Assembly) -> list[Figure]:
                           "preload", f_open, spring_preload, 0.02 * spring_preload,
                           source="closed form: the spring's preload; the contacts' "
                                  "compliance (c_spring / c_contact) moves it by 2 %"))
+    figures += _preload_dynamics_figures(result, acc)
     contact = result["outerContactA.contact"]
     opened = np.flatnonzero((contact[1:] < 0.5) & (contact[:-1] > 0.5))
     w = 2 * math.pi * pre.SINE["f"]
@@ -484,6 +490,67 @@ def _preload_figures(result: Result, asm: Assembly) -> list[Figure]:
                                  "the sampling interval, and 10 ms for the lag of the "
                                  "closed contacts (d/c ~ 1.5 ms)"))
     return figures
+
+
+_BODIES = ("spool", "springPlateA", "springPlateB")
+_GAPS = ("outerContactA", "outerContactB", "innerContactA", "innerContactB")
+SOURCE_PRELOAD = ("independent integration (exact, mode by mode, of MSL's PreLoad "
+                  "equations: msl_preload_reference.dynamics)")
+
+
+def _preload_dynamics_figures(result: Result, acc: float) -> list[Figure]:
+    """The run against the dynamics of MSL's PreLoad (every body over the whole run, the
+    contacts' changes), and its energy balance."""
+    t = np.asarray(result["time"])
+    motion = pre.dynamics(t, stop=float(t[-1]))
+    figures = []
+    for j, body in enumerate(_BODIES):
+        figures.append(Figure(f"{body}_s_err", f"{body}.s: largest deviation from the "
+                              "dynamics over the run [m]",
+                              float(np.max(np.abs(result[f"{body}.s"] - motion.q[:, j]))), 0.0,
+                              acc, source=SOURCE_PRELOAD))
+        figures.append(Figure(f"{body}_v_err", f"{body}.v: largest deviation from the "
+                              "dynamics over the run [m/s]",
+                              float(np.max(np.abs(result[f"{body}.v"] - motion.v[:, j]))), 0.0,
+                              solver_accuracy(result, 1.0), source=SOURCE_PRELOAD))
+    # each contact's first opening after the start (mode 0 of the reference): a slow
+    # crossing, so its time is known to the position's accuracy over the gap's speed
+    for gap in ("outerContactA", "innerContactB"):
+        t_ref = next((te for te, name, q in motion.events if name == gap and q == 0), math.nan)
+        ev = result.events.get(gap)
+        ours = (next((float(te) for te, c in zip(ev["time"], ev[f"{gap}.contact"]) if c == 0),
+                     math.nan) if ev is not None else math.nan)
+        k = pre.ELEMENTS.index(next(e for e in pre.ELEMENTS if e.name == gap))
+        v_rel = abs(float(np.dot(pre.ELEMENTS[k].g, _state_at(motion, t_ref)[1])))
+        figures.append(Figure(f"{gap}_opens_at", f"{gap} opens at [s] (event) vs the dynamics",
+                              ours, t_ref, acc / max(v_rel, 1e-300), source=SOURCE_PRELOAD))
+    # the force's work = kinetic + elastic energy + the dampers' and contacts' loss, from
+    # the first sample on (the start's snap of the plates onto their contacts, over in a
+    # millisecond, is not sampled). The work by parts, F s - int F' s dt: s is smooth where
+    # the speed jumps with the contacts' stiffness, F' is exact
+    k0 = 1
+    tt, s = t[k0:], np.asarray(result["spool.s"])[k0:]
+    F = np.asarray(result["sineForce.y"])[k0:]
+    w = 2 * math.pi * pre.SINE["f"]
+    dF = pre.SINE["amplitude"] * w * np.cos(w * tt)
+    I, err_i = _integral(tt, dF * s)
+    W = F[-1] * s[-1] - F[0] * s[0] - I
+    loss = np.asarray(result["friction.lossPower"]) + sum(
+        np.asarray(result[f"{g}.lossPower"]) for g in _GAPS)
+    D, err_d = _integral(tt, loss[k0:])
+    E = sum(np.asarray(result[f"{name}.E"]) for name in (*_BODIES, "spring", *_GAPS))
+    figures.append(Figure("energy", f"work of the force from {t[k0]:g} s [J] vs the change of "
+                          "kinetic + elastic energy + the loss", W, float(E[-1] - E[k0]) + D,
+                          err_i + err_d + solver_accuracy(result, max(W, 1e-3)),
+                          source="conservation law (work = kinetic + elastic energy + loss)"))
+    return figures
+
+
+def _state_at(motion, time: float):
+    """(q, v) of the reference's motion at `time`, interpolated between its samples."""
+    q = np.array([np.interp(time, motion.t, motion.q[:, j]) for j in range(3)])
+    v = np.array([np.interp(time, motion.t, motion.v[:, j]) for j in range(3)])
+    return q, v
 
 
 MSL_TRANSLATIONAL_SCENES: dict[str, Scene] = {
@@ -517,5 +584,6 @@ MSL_TRANSLATIONAL_SCENES: dict[str, Scene] = {
         "preloaded ElastoGap stops until a slow sine force overcomes the preload",
         _preload, stop_time=pre.STOP_TIME, step=0.1, tolerance=1e-8, record=None,
         figures=_preload_figures, plot=["spool.s", "force.f"], mode="monolithic",
-        seed="MSL", reference="statics and quasi-static response of MSL's PreLoad"),
+        seed="MSL", reference="statics, quasi-static response and exact mode-by-mode "
+                              "motion of MSL's PreLoad; work = energy + loss"),
 }

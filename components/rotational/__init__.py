@@ -1,5 +1,5 @@
 """Rotational elements (MSL ``Modelica.Mechanics.Rotational.Components``): inertia,
-fixed housing, gear, springs, damper, friction elements and the motor.
+fixed housing, gear, springs, damper, backlash, friction elements and the motor.
 
 Names are imported on first use (PEP 562), like the top-level ``components``. Names
 MSL shares with Translational carry the prefix ``Rotational`` here and at the top
@@ -13,6 +13,8 @@ from ..lazy import lazy_exports
 WHERE = {
     "BearingFriction": ".friction",
     "Clutch": ".friction",
+    "ElastoBacklash": ".backlash",
+    "ElastoBacklash2": ".backlash",
     "RotationalBrake": ".friction",
     "IdealGear": ".rigid",
     "Inertia": ".rigid",
@@ -20,6 +22,7 @@ WHERE = {
     "OneWayClutch": ".friction",
     "RotationalDamper": ".elements",
     "RotationalFixed": ".rigid",
+    "RotationalJunction": ".rigid",
     "RotationalSpring": ".elements",
     "RotationalSpringDamper": ".elements",
     "TorsionalSpring": ".elements",

@@ -1,4 +1,5 @@
-"""Rigid rotational elements (MSL Rotational.Components): Inertia, Fixed, IdealGear.
+"""Rigid rotational elements (MSL Rotational.Components): Inertia, Fixed, IdealGear, and
+the junction of three flanges that MSL writes as one connection set.
 
 An ``Inertia`` computes motion (MSL's *direct* inertia for FMU export: the torques at
 both flanges in; phi, w, a out); ``Fixed`` holds a flange at a constant angle and
@@ -15,6 +16,7 @@ from ..component import Component
 from ..interfaces import (FORCE_IN, MOTION_IN, ROTATIONAL, Constraint, Parameter, Port, Profile,
                           State)
 from ..lazy import lazy
+from ..translational.rigid import _through
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
 
@@ -94,6 +96,29 @@ class IdealGear(Component):
         for name in ("phi", "w", "a"):
             e.residual(getattr(a, name) - ratio * getattr(b, name))
         e.residual(ratio * a.tau + b.tau)
+
+
+class RotationalJunction(Component):
+    """Three rotational flanges rigidly joined at one point (a Modelica connection set of three).
+
+    Every flange has the same phi, w, a; ``flange_a.tau + flange_b.tau + flange_c.tau = 0``.
+    A connection here joins two ports (an FMU's torque input takes one source), so where
+    MSL connects three flanges (an inertia to a spring and to a damper on the housing)
+    this joins them. Connectors: ``flange_a``, ``flange_b``, ``flange_c`` — one takes the
+    motion in and gives the sum of the others' torques out, the other two pass the motion
+    on and take their torques in (profiles ``motion_at_a``, ``_b``, ``_c``; the assembly
+    picks one).
+    """
+
+    ports = tuple(Port(f"flange_{k}", ROTATIONAL, f"flange {k} of the joint") for k in "abc")
+    profiles = _through(("flange_a", "flange_b", "flange_c"))
+
+    def equations(self, e):
+        a, b, c = (e.port(f"flange_{k}") for k in "abc")
+        for other in (b, c):
+            for name in ("phi", "w", "a"):
+                e.residual(getattr(other, name) - getattr(a, name))
+        e.residual(a.tau + b.tau + c.tau)
 
 
 Fixed = RotationalFixed  # MSL's name inside the rotational package
