@@ -81,6 +81,7 @@ typedef struct {
     double t_set;         /* the point the instances were last set to */
     int set_valid;
     int thin;             /* one instance, no couplings, mfEvaluateAt: the thin path (thin_point) */
+    fmu_off off;          /* on the thin path, mfEvaluateOff where the FMU has it (off.fn) */
     long k_out;           /* next output row */
     int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
     int next_defined;     /* a time event is due at t_next */
@@ -240,7 +241,12 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
     me_master *M = ctx;
     int i;
     M->stats->rhs_calls++;
-    if (M->thin && !M->asleep[0] && thin_point(M, t, x, dx, NULL) == 0) return 0;
+    /* a trial point: evaluated off the instance, which stays where it stands (set_point's
+       cache stays true); where that declines, the instance is moved there */
+    if (M->thin && !M->asleep[0] &&
+        ((M->off.fn && M->off.fn(M->off.instance, t, x, dx, NULL) == 0) ||
+         thin_point(M, t, x, dx, NULL) == 0))
+        return 0;
     if (set_point(M, t, x)) return -1;
     for (i = 0; i < M->n; i++) {
         int j;
@@ -404,7 +410,10 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
 static int indicators_at(me_master *M, double t, const double *x, double *z)
 {
     int i;
-    if (M->thin && !M->asleep[0] && M->n_z && thin_point(M, t, x, NULL, z) == 0) return 0;
+    if (M->thin && !M->asleep[0] && M->n_z &&
+        ((M->off.fn && M->off.fn(M->off.instance, t, x, NULL, z) == 0) ||
+         thin_point(M, t, x, NULL, z) == 0))
+        return 0;
     if (set_point(M, t, x)) return -1;
     for (i = 0; i < M->n; i++)
         if (M->z_off[i + 1] > M->z_off[i] &&
@@ -850,6 +859,7 @@ static int instantiate(me_master *M)
         if (M->fmus[i] == NULL) return -1;
     }
     M->thin = M->n == 1 && s->n_couplings == 0 && fmu_can_evaluate_at(M->fmus[0]);
+    if (!M->thin || !fmu_evaluate_off(M->fmus[0], &M->off)) M->off.fn = NULL;
     return 0;
 }
 
