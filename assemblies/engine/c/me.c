@@ -694,14 +694,26 @@ static int rest_rows(me_master *M)
     return 0;
 }
 
+/* Reads each run of Float64 scalars in one call, any other value by itself: an event's
+   row is a dozen outputs, and a call each cost about as much as locating the event
+   (stick_slip's composite: 12 calls per event, now 2: its Float64s and its mode). */
+#define EVENT_ROW_BATCH 64
 static int record_event(me_master *M, int g, double t)
 {
     const eng_event_group *group = &M->spec->event_groups[g];
-    int k;
+    fmu_t *f = M->fmus[group->instance];
+    uint32_t vr[EVENT_ROW_BATCH];
+    int k = 0, j;
     M->row[0] = t;
-    for (k = 0; k < group->n_outputs; k++)
-        if (eng_get_value(M->fmus[group->instance], &group->outputs[k], &M->row[1 + k]))
+    while (k < group->n_outputs) {
+        for (j = 0; j < EVENT_ROW_BATCH && k + j < group->n_outputs &&
+                    ENG_PLAIN(&group->outputs[k + j]); j++)
+            vr[j] = group->outputs[k + j].vr;
+        if (j > 0 ? fmu_get_float64(f, vr, (size_t)j, &M->row[1 + k])
+                  : eng_get_value(f, &group->outputs[k], &M->row[1 + k]))
             return failed(M, group->instance, "reading the outputs at an event", t);
+        k += j > 0 ? j : 1;
+    }
     if (eng_table_append(&M->run->tables[g], M->row))
         return fail(M, "out of memory recording events");
     return 0;
