@@ -8,14 +8,14 @@ For stick_slip, axle_pendulum and coin_rolling: the compiled engine as a user ca
 `prepared_me`, `prepared_monolithic`: what prepare_me and prepare_monolithic return,
 prepared once per tolerance before the timing, as the FMUs are built: the calls of a
 parameter study; the public call is the fastest of the four at each error, `simulate`
-the faster of the first two), `c_limit` (benchmarks/c_limit.c: the same generated model under plain DOPRI5)
-and scipy's solve_ivp on the hand-written right-hand sides, in numpy and numba-compiled
-(`scipy_numba_*`, when numba is installed: the `bench` extra). Each round runs every
-method at every tolerance, round-robin, and takes process CPU time (a run shorter than
-MIN_CPU_S is repeated and averaged, so the clock's grain does not count); in each round
-the CPU time at errors 1e-3, 1e-6 and 1e-9 is interpolated on each method's curve
-(analysis.wall_at_error) and the ratios are taken within that round. The table gives
-each ratio's median and its spread (least to greatest) over the rounds.
+the faster of the first two), `c_limit` (benchmarks/c_limit.c: the same generated model
+under plain DOPRI5) and scipy's solve_ivp on the hand-written right-hand sides, in numpy
+and numba-compiled (`scipy_numba_*`, when numba is installed: the `bench` extra). Each
+round runs every method at every tolerance, round-robin, and takes process CPU time (a
+run shorter than MIN_CPU_S is repeated and averaged, so the clock's grain does not
+count); in each round the CPU time at errors 1e-3, 1e-6 and 1e-9 is interpolated on
+each method's curve (analysis.wall_at_error) and the ratios are taken within that round.
+The table gives each ratio's median and its spread (least to greatest) over the rounds.
 """
 from __future__ import annotations
 
@@ -164,9 +164,9 @@ SPLIT_REPEATS = 200
 def split(scene: str, log=print) -> list[dict]:
     """Where the public call's time goes, per tolerance: its CPU time; the wall time of
     its C call alone (settings["engine_s"]) and so the Python around it; the same for
-    the call prepare_monolithic returns; the public call with event_subsamples=0 (step ends only, as c_limit locates events); and c_limit.
-    Round-robin, SPLIT_REPEATS runs each, the 20th percentile of each (a loaded machine's
-    upper tail is other work)."""
+    the call prepare_monolithic returns; the public call with event_subsamples=0 (step
+    ends only, as c_limit locates events); and c_limit. Round-robin, SPLIT_REPEATS runs
+    each, the 20th percentile of each (a loaded machine's upper tail is other work)."""
     from assemblies.engine import me as engine
     case = SCENES[scene]()
     asm, column = case.masters.assembly, case.masters.column
