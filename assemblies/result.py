@@ -31,10 +31,20 @@ class Table:
         """A 2-D float array of the caller's, a column per name, each a view of it: no
         value goes through Python (an engine run's event rows, where from_rows'
         per-value conversion cost more than a short run's integration)."""
-        values = np.asarray(values, dtype=float).reshape(-1, len(names))
         table = cls.__new__(cls)
-        table._columns = {name: values[:, i] for i, name in enumerate(names)}
+        # the views are made where a column is first asked for (__getattr__): a run's
+        # event tables are mostly never read, and 13 views cost a short run ~5 us
+        table._array = np.asarray(values, dtype=float).reshape(-1, len(names))
+        table._names = list(names)
         return table
+
+    def __getattr__(self, name):
+        # only for what the instance lacks: a from_array table's columns, once
+        if name == "_columns" and "_array" in self.__dict__:
+            values = self.__dict__["_array"]
+            self._columns = {n: values[:, i] for i, n in enumerate(self.__dict__["_names"])}
+            return self._columns
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     @property
     def columns(self) -> list[str]:

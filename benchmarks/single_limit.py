@@ -4,15 +4,18 @@
     python -m benchmarks.single_limit --split [--scenes ...]   # where the public call's time goes
 
 For stick_slip, axle_pendulum and coin_rolling: the compiled engine as a user calls it
-(`engine_me`, `engine_monolithic`: the public call is the faster of the two at each
-error), `c_limit` (benchmarks/c_limit.c: the same generated model under plain DOPRI5)
-and scipy's solve_ivp on the hand-written right-hand sides, in numpy and numba-compiled
-(`scipy_numba_*`, when numba is installed: the `bench` extra). Each round runs every
-method at every tolerance, round-robin, and takes process CPU time (a run shorter than
-MIN_CPU_S is repeated and averaged, so the clock's grain does not count); in each round
-the CPU time at errors 1e-3, 1e-6 and 1e-9 is interpolated on each method's curve
-(analysis.wall_at_error) and the ratios are taken within that round. The table gives
-each ratio's median and its spread (least to greatest) over the rounds.
+(`engine_me`, `engine_monolithic`: simulate_me and simulate_monolithic, one call per run;
+`prepared_me`, `prepared_monolithic`: what prepare_me and prepare_monolithic return,
+prepared once per tolerance before the timing, as the FMUs are built: the calls of a
+parameter study; the public call is the fastest of the four at each error, `simulate`
+the faster of the first two), `c_limit` (benchmarks/c_limit.c: the same generated model
+under plain DOPRI5) and scipy's solve_ivp on the hand-written right-hand sides, in numpy
+and numba-compiled (`scipy_numba_*`, when numba is installed: the `bench` extra). Each
+round runs every method at every tolerance, round-robin, and takes process CPU time (a
+run shorter than MIN_CPU_S is repeated and averaged, so the clock's grain does not
+count); in each round the CPU time at errors 1e-3, 1e-6 and 1e-9 is interpolated on
+each method's curve (analysis.wall_at_error) and the ratios are taken within that round.
+The table gives each ratio's median and its spread (least to greatest) over the rounds.
 """
 from __future__ import annotations
 
@@ -48,11 +51,34 @@ def _cpu(fn, tol):
             return values, spent / runs
 
 
+def _prepared(case, mode: str):
+    """The run of prepare_me or prepare_monolithic as a method (tol, count) -> (values,
+    rhs_calls, steps): prepared here for every tolerance, so the timed calls are runs."""
+    from assemblies.engine import me as engine
+    prepare = engine.prepare_me if mode == "me" else engine.prepare_monolithic
+    asm, column, times = case.masters.assembly, case.masters.column, case.times
+    runs = {tol: prepare(asm, times[-1], times[1] - times[0], tol, record=[column])
+            for tol in TOLERANCES}
+
+    def call(tol, count):
+        res = runs[tol]()
+        return (res[column], res.settings.get("rhs_calls"), res.settings.get("steps"))
+    return call
+
+
+SIMULATE = ("engine_me", "engine_monolithic")
+PUBLIC = SIMULATE + ("prepared_me", "prepared_monolithic")
+
+
 def _methods(case):
-    names = ["c_limit", "engine_me", "engine_monolithic"]
+    names = ["c_limit", *SIMULATE]
     names += [f"scipy_{m}" for m in SCIPY_METHODS]
     names += [f"scipy_numba_{m}" for m in SCIPY_METHODS]
-    return {n: case.methods[n] for n in names if n in case.methods}
+    methods = {n: case.methods[n] for n in names if n in case.methods}
+    if "engine_monolithic" in methods:
+        methods["prepared_me"] = _prepared(case, "me")
+        methods["prepared_monolithic"] = _prepared(case, "monolithic")
+    return methods
 
 
 def _best(records, scene, methods, error):
@@ -84,13 +110,17 @@ def measure(scene: str, rounds: int, log=print) -> list[dict]:
                                 "error": error, "wall_s": cpu})
         for error in ERRORS:
             limit = _best(records, scene, ["c_limit"], error)
-            public = _best(records, scene, ["engine_me", "engine_monolithic"], error)
+            public = _best(records, scene, list(PUBLIC), error)
+            simulate = _best(records, scene, list(SIMULATE), error)
             scipy = _best(records, scene, [m for m in methods if m.startswith("scipy")], error)
             numba = _best(records, scene, [m for m in methods if m.startswith("scipy_numba")],
                           error)
             rows.append({"scene": scene, "round": rnd, "error": error,
-                         "c_limit": limit, "public": public, "scipy": scipy, "numba": numba,
+                         "c_limit": limit, "public": public, "simulate": simulate,
+                         "scipy": scipy, "numba": numba,
                          "public/c_limit": public[0] / limit[0] if public and limit else None,
+                         "simulate/c_limit": simulate[0] / limit[0]
+                         if simulate and limit else None,
                          "scipy/public": scipy[0] / public[0] if scipy and public else None,
                          "numba/public": numba[0] / public[0] if numba and public else None})
         log(f"  {scene}: round {rnd + 1}/{rounds} done")
@@ -105,9 +135,10 @@ def _spread(values):
 
 
 def table(rows) -> str:
-    lines = ["| scene | error | public/c_limit (<= 2) | best scipy/public (>= 50) | "
-             "numba scipy/public | public [ms] | c_limit [ms] | best scipy |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| scene | error | public/c_limit (<= 2) | simulate/c_limit | "
+             "best scipy/public (>= 50) | numba scipy/public | public [ms] | public call "
+             "| c_limit [ms] | best scipy |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for scene in dict.fromkeys(r["scene"] for r in rows):
         for error in ERRORS:
             sel = [r for r in rows if r["scene"] == scene and r["error"] == error]
@@ -115,11 +146,14 @@ def table(rows) -> str:
             def ms(side):
                 got = [r[side][0] * 1e3 for r in sel if r[side]]
                 return f"{statistics.median(got):.3f}" if got else "-"
-            best = [r["scipy"][1] for r in sel if r["scipy"]]
+            def most(side):
+                got = [r[side][1] for r in sel if r.get(side)]
+                return max(set(got), key=got.count) if got else "-"
             lines.append(f"| {scene} | {error:.0e} | {_spread(r['public/c_limit'] for r in sel)} "
+                         f"| {_spread(r.get('simulate/c_limit') for r in sel)} "
                          f"| {_spread(r['scipy/public'] for r in sel)} "
                          f"| {_spread(r['numba/public'] for r in sel)} | {ms('public')} "
-                         f"| {ms('c_limit')} | {max(set(best), key=best.count) if best else '-'} |")
+                         f"| {most('public')} | {ms('c_limit')} | {most('scipy')} |")
     return "\n".join(lines)
 
 
@@ -129,10 +163,10 @@ SPLIT_REPEATS = 200
 
 def split(scene: str, log=print) -> list[dict]:
     """Where the public call's time goes, per tolerance: its CPU time; the wall time of
-    its C call alone (settings["engine_s"]) and so the Python around it; the public call
-    with event_subsamples=0 (step ends only, as c_limit locates events); and c_limit.
-    Round-robin, SPLIT_REPEATS runs each, the 20th percentile of each (a loaded machine's
-    upper tail is other work)."""
+    its C call alone (settings["engine_s"]) and so the Python around it; the same for
+    the call prepare_monolithic returns; the public call with event_subsamples=0 (step
+    ends only, as c_limit locates events); and c_limit. Round-robin, SPLIT_REPEATS runs
+    each, the 20th percentile of each (a loaded machine's upper tail is other work)."""
     from assemblies.engine import me as engine
     case = SCENES[scene]()
     asm, column = case.masters.assembly, case.masters.column
@@ -142,12 +176,14 @@ def split(scene: str, log=print) -> list[dict]:
         def public(subsamples=engine.EVENT_SUBSAMPLES):
             return engine.simulate_monolithic(asm, times[-1], times[1] - times[0], tol,
                                               record=[column], event_subsamples=subsamples)
-        sides = {"public": public, "public_sub0": lambda: public(0),
+        prepared = engine.prepare_monolithic(asm, times[-1], times[1] - times[0], tol,
+                                             record=[column])
+        sides = {"public": public, "public_sub0": lambda: public(0), "prepared": prepared,
                  "c_limit": lambda: case.methods["c_limit"](tol, False)}
         for fn in sides.values():
             fn()
         spent = {name: [] for name in sides}
-        c_call = []
+        c_call, c_prepared = [], []
         for _ in range(SPLIT_REPEATS):
             for name, fn in sides.items():
                 started = time.process_time()
@@ -155,18 +191,26 @@ def split(scene: str, log=print) -> list[dict]:
                 spent[name].append(time.process_time() - started)
                 if name == "public":
                     c_call.append(result.settings["engine_s"])
+                if name == "prepared":
+                    c_prepared.append(result.settings["engine_s"])
         q = {name: statistics.quantiles(v, n=5)[0] for name, v in spent.items()}
         c = statistics.quantiles(c_call, n=5)[0]
+        cp = statistics.quantiles(c_prepared, n=5)[0]
         row = {"scene": scene, "tolerance": tol, "public_cpu_s": q["public"], "c_call_s": c,
-               "python_s": q["public"] - c, "public_sub0_cpu_s": q["public_sub0"],
+               "python_s": q["public"] - c, "prepared_cpu_s": q["prepared"],
+               "prepared_python_s": q["prepared"] - cp,
+               "prepared/c_limit": q["prepared"] / q["c_limit"],
+               "public_sub0_cpu_s": q["public_sub0"],
                "c_limit_cpu_s": q["c_limit"], "public/c_limit": q["public"] / q["c_limit"],
                "public_sub0/c_limit": q["public_sub0"] / q["c_limit"],
                "python/c_limit": (q["public"] - c) / q["c_limit"]}
         rows.append(row)
         log(f"  {scene} {tol:g}: public {q['public'] * 1e6:.0f} us (C call {c * 1e6:.0f}, "
-            f"Python {(q['public'] - c) * 1e6:.0f}), event_subsamples=0 "
+            f"Python {(q['public'] - c) * 1e6:.0f}), prepared {q['prepared'] * 1e6:.0f} "
+            f"(Python {(q['prepared'] - cp) * 1e6:.0f}), event_subsamples=0 "
             f"{q['public_sub0'] * 1e6:.0f}, c_limit {q['c_limit'] * 1e6:.0f}: "
-            f"{row['public/c_limit']:.2f}x, {row['public_sub0/c_limit']:.2f}x")
+            f"{row['public/c_limit']:.2f}x, prepared {row['prepared/c_limit']:.2f}x, "
+            f"{row['public_sub0/c_limit']:.2f}x")
     return rows
 
 

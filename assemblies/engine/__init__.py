@@ -7,6 +7,7 @@ fmpy-driven reference masters in :mod:`assemblies.masters`.
 """
 from .binding import EngineError
 from .cosim import cosimulate
-from .me import simulate_me, simulate_monolithic
+from .me import prepare_me, prepare_monolithic, simulate_me, simulate_monolithic
 
-__all__ = ["EngineError", "cosimulate", "simulate_me", "simulate_monolithic"]
+__all__ = ["EngineError", "cosimulate", "prepare_me", "prepare_monolithic", "simulate_me",
+           "simulate_monolithic"]

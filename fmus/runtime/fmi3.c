@@ -601,6 +601,22 @@ mfEvaluateAt(fmi3Instance instance, fmi3Float64 time, const fmi3Float64 continuo
     return ST(st);
 }
 
+/* Not FMI: mfEvaluateAt without moving the instance (mf_evaluate_off). The engine's
+   integrator asks for the derivatives at six trial points per step and the indicators at
+   a few more, points the instance is never needed at: mfEvaluateAt stores each point in
+   the instance and drops what it had computed, and that bookkeeping costs about as much
+   as a small model's right-hand side. 0, or 1 (nothing logged) wherever mfEvaluateAt
+   would have to make the separate calls: the caller makes them, and they say why. The
+   arrays hold as many values as the model has states and indicators. Plain C types, so
+   that the engine calls it through a pointer of exactly its type. */
+__attribute__((visibility("default"))) int
+mfEvaluateOff(void *instance, double time, const double continuousStates[], double derivatives[],
+              double eventIndicators[])
+{
+    return mf_evaluate_off(INST(instance), time, continuousStates, derivatives,
+                           eventIndicators) == MF_OK ? 0 : 1;
+}
+
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
                                    size_t nContinuousStates)
 {

@@ -1289,6 +1289,26 @@ mf_status mf_evaluate_at(mf_instance *I, double t, const double x[], size_t n, d
     return MF_OK;
 }
 
+mf_status mf_evaluate_off(mf_instance *I, double t, const double x[], double dx[], double z[])
+{
+    const mf_model *m;
+    if (!I || I->iface != MF_MODEL_EXCHANGE || !(I->phase & (PH_CONT | PH_EVENT)) || I->failed
+        || !isfinite(t))
+        return MF_DISCARD;
+    m = I->m;
+    if (!all_finite(x, m->n_x)) return MF_DISCARD;
+    /* straight into the caller's arrays: the instance's own point and what it has
+       computed there stay as they are */
+    if (dx && (call(I, &m->ode, t, x, I->q, I->u, dx, NULL) || !all_finite(dx, m->n_x)))
+        return MF_DISCARD;
+    if (z) {
+        if (call(I, &m->zc, t, x, I->q, I->u, z, NULL) || !all_finite(z, m->n_z))
+            return MF_DISCARD;
+        shifted(I, z);
+    }
+    return MF_OK;
+}
+
 mf_status mf_get_nominals(mf_instance *I, const char *fn, double nominals[], size_t n)
 {
     size_t i;

@@ -141,6 +141,12 @@ mf_status mf_get_event_indicators(mf_instance *inst, const char *fn, double z[],
    (fmi3.c's mfEvaluateAt). */
 mf_status mf_evaluate_at(mf_instance *inst, double t, const double x[], size_t n, double dx[],
                          double z[], size_t nz);
+/* The derivatives (dx != NULL) and indicators (z != NULL, as mf_get_event_indicators
+   gives them) at (t, x) without moving the instance there: its time, states and what it
+   computed at them are left as they were (fmi3.c's mfEvaluateOff). Model Exchange only,
+   inputs as set. MF_OK, or MF_DISCARD with nothing logged wherever mf_evaluate_at would
+   decline (then the caller takes the separate calls, which say why). */
+mf_status mf_evaluate_off(mf_instance *inst, double t, const double x[], double dx[], double z[]);
 mf_status mf_get_nominals(mf_instance *inst, const char *fn, double nominals[], size_t n);
 mf_status mf_get_number_of_states(mf_instance *inst, const char *fn, size_t *n);
 mf_status mf_get_number_of_event_indicators(mf_instance *inst, const char *fn, size_t *n);

@@ -2,7 +2,8 @@
 any point it gives what fmi3SetTime, fmi3SetContinuousStates,
 fmi3GetContinuousStateDerivatives and fmi3GetEventIndicators give through fmpy on the
 same instance, bit for bit; where one of those would refuse, it refuses as that call does,
-with its message. An engine run that takes it (FMI 3) and one
+with its message. mfEvaluateOff gives the same values without moving the instance (the
+integrator's trial points). An engine run that takes them (FMI 3) and one
 that cannot (FMI 2 has no such export) integrate the same model to the same bits."""
 from ctypes import POINTER, c_double, c_int, c_size_t, c_void_p
 
@@ -61,6 +62,56 @@ class Me3:
                                   dx if want_dx else None, z if want_z and self.n_z else None,
                                   self.n_z)
         return status, np.array(dx), np.array(z[:self.n_z])
+
+    def off_call(self, t, x, want_dx=True, want_z=True):
+        """(status, dx, z) through mfEvaluateOff."""
+        off = self.fmu.dll.mfEvaluateOff  # AttributeError before: no such export
+        off.argtypes = [c_void_p, c_double, POINTER(c_double), POINTER(c_double),
+                        POINTER(c_double)]
+        off.restype = c_int
+        dx, z = (c_double * self.n_x)(), (c_double * max(1, self.n_z))()
+        status = off(self.fmu.component, t, (c_double * self.n_x)(*x),
+                     dx if want_dx else None, z if want_z and self.n_z else None)
+        return status, np.array(dx), np.array(z[:self.n_z])
+
+    def where(self):
+        """The instance's states and its derivatives there, as the FMI calls read them."""
+        x, dx = (c_double * self.n_x)(), (c_double * self.n_x)()
+        self.fmu.getContinuousStates(x, self.n_x)
+        self.fmu.getContinuousStateDerivatives(dx, self.n_x)
+        return np.array(x), np.array(dx)
+
+
+@pytest.mark.parametrize("make", [lambda: SpringBlock(profile="driven_on_moving_support"),
+                                  RollingCoin], ids=["block", "coin"])
+def test_off_the_instance_gives_the_four_calls_bits_and_leaves_it_where_it_was(make, tmp_path):
+    """mfEvaluateOff, the integrator's trial points (issue 27): the values of the four
+    calls at (t, x), while the instance stays at the point it was set to, its states and
+    derivatives there unchanged."""
+    inst = Me3(make(), tmp_path)
+    rng = np.random.default_rng(2727)
+    for k in range(20):
+        t, x = float(rng.uniform(0, 5)), rng.uniform(-1, 1, inst.n_x)
+        want_dx, want_z = inst.standard(t, x)
+        home_t, home_x = t + 1.0, -x
+        inst.standard(home_t, home_x)  # the instance's own point from here on
+        before = inst.where()
+        status, dx, z = inst.off_call(t, x)
+        assert status == 0
+        assert dx.tobytes() == want_dx.tobytes() and z.tobytes() == want_z.tobytes()
+        status, dx, _ = inst.off_call(t, x, want_z=False)
+        assert status == 0 and dx.tobytes() == want_dx.tobytes()
+        status, _, z = inst.off_call(t, x, want_dx=False)
+        assert status == 0 and z.tobytes() == want_z.tobytes()
+        after = inst.where()
+        assert after[0].tobytes() == before[0].tobytes() == home_x.tobytes()
+        assert after[1].tobytes() == before[1].tobytes()
+    # a point the separate calls would refuse: declined, nothing logged (they say why)
+    status, _, _ = inst.off_call(0.5, [float("nan")] + [0.0] * (inst.n_x - 1))
+    assert status == 1
+    status, _, _ = inst.off_call(float("inf"), [0.0] * inst.n_x)
+    assert status == 1
+    assert inst.messages == []
 
 
 @pytest.mark.parametrize("make", [lambda: SpringBlock(profile="driven_on_moving_support"),

@@ -41,9 +41,9 @@ def test_library_exports_only_fmi_symbols(tmp_path):
     out = subprocess.run(["nm", "-D", "--defined-only", str(tmp_path / names[0])],
                          capture_output=True, text=True, check=True).stdout
     symbols = [line.split()[-1] for line in out.splitlines() if line.strip()]
-    # FMI's functions and our one documented extension (the engine's thin path)
-    assert symbols and all(s.startswith("fmi3") or s == "mfEvaluateAt" for s in symbols), \
-        symbols
+    # FMI's functions and our documented extensions (the engine's thin path)
+    assert symbols and all(s.startswith("fmi3") or s in ("mfEvaluateAt", "mfEvaluateOff")
+                           for s in symbols), symbols
 
 
 def test_dependencies_are_structural(tmp_path):

@@ -112,6 +112,7 @@ typedef struct {
     fmi3EnterStepModeTYPE *enter_step_mode;
     fmi3DoStepTYPE *do_step;
     mf_evaluate_at_fn *evaluate_at; /* not FMI: our runtime's mfEvaluateAt (fmi3.c) */
+    fmu_off_fn *evaluate_off;       /* not FMI: our runtime's mfEvaluateOff (fmi3.c) */
 } fmi3_api;
 
 /* The values this instance last set of one array variable: FMI 3 sets an array whole,
@@ -331,6 +332,7 @@ static void lookup3(fmu_t *f) {
     LOOKUP3(enter_step_mode, "EnterStepMode");
     LOOKUP3(do_step, "DoStep");
     f->v3.evaluate_at = (mf_evaluate_at_fn *)symbol(f->library, "mfEvaluateAt");
+    f->v3.evaluate_off = (fmu_off_fn *)symbol(f->library, "mfEvaluateOff");
 }
 
 /* The functions every FMU of this version and interface must have. */
@@ -909,6 +911,13 @@ int fmu_evaluate_at(fmu_t *f, double t, const double *x, size_t n, double *dx, d
     if (f->v3.evaluate_at(f->instance, t, x, n, dx, z, nz) > fmi3Warning) return FMU_ERROR;
     f->message_is_error = 0; /* as check() after a call that succeeded */
     return FMU_OK;
+}
+
+int fmu_evaluate_off(const fmu_t *f, fmu_off *off) {
+    if (!fmu_can_evaluate_at(f) || f->v3.evaluate_off == NULL) return 0;
+    off->fn = f->v3.evaluate_off;
+    off->instance = f->instance;
+    return 1;
 }
 
 int fmu_get_nominals(fmu_t *f, double *nominals, size_t n) {

@@ -147,6 +147,18 @@ int fmu_can_evaluate_at(const fmu_t *fmu);
    fail (the caller makes them: they say what failed, as without this call). */
 int fmu_evaluate_at(fmu_t *fmu, double t, const double *x, size_t n, double *dx, double *z,
                     size_t nz);
+/* mfEvaluateOff of an FMU built from our runtime (fmus/runtime/fmi3.c), for the
+   integrator's trial points: the derivatives (dx != NULL) and indicators (z != NULL) at
+   (t, x) without moving the instance there, straight into the FMU with nothing between.
+   0, or nonzero where fmu_evaluate_at would decline (the caller takes that path, which
+   says why). */
+typedef int fmu_off_fn(void *instance, double t, const double *x, double *dx, double *z);
+typedef struct {
+    fmu_off_fn *fn;
+    void *instance;
+} fmu_off;
+/* The instance's fmu_off; 0 where it has none (not ours, FMI 2, Co-Simulation) */
+int fmu_evaluate_off(const fmu_t *fmu, fmu_off *off);
 int fmu_get_nominals(fmu_t *fmu, double *nominals, size_t n);
 int fmu_enter_event_mode(fmu_t *fmu);
 int fmu_update_discrete_states(fmu_t *fmu, fmu_event_info *info);

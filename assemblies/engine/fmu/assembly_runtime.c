@@ -578,11 +578,18 @@ mf_status mf_get_event_indicators(mf_instance *A, const char *fn, double z[], si
     return eng_me_indicators(A->me, z) ? engine_failed(A, fn) : MF_OK;
 }
 
-/* No shortcut through an assembly (runtime.h): fmi3.c's mfEvaluateAt makes the four calls */
+/* No shortcut through an assembly (runtime.h): fmi3.c's mfEvaluateAt makes the four calls,
+   and mfEvaluateOff declines (its caller makes them) */
 mf_status mf_evaluate_at(mf_instance *A, double t, const double x[], size_t n, double dx[],
                          double z[], size_t nz)
 {
     (void)A, (void)t, (void)x, (void)n, (void)dx, (void)z, (void)nz;
+    return MF_DISCARD;
+}
+
+mf_status mf_evaluate_off(mf_instance *A, double t, const double x[], double dx[], double z[])
+{
+    (void)A, (void)t, (void)x, (void)dx, (void)z;
     return MF_DISCARD;
 }
 
