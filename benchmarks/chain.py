@@ -364,9 +364,9 @@ def report(data: dict) -> str:
                      + f"{p['lo']:6.2f}..{p['hi']:<5.2f}{p['tail']:9.2f}")
     per_step = data.get("per_step", {})
     if per_step:
-        lines.append("steps per run (me, monolithic: the one integrator's; cosim: communication steps), "
-                     "CPU per step [us]; p of steps ~ n^p and of "
-                     "CPU per step ~ n^p (their sum is p (all)):")
+        lines.append("steps per run (me, monolithic: the one integrator's; cosim: communication "
+                     "steps), CPU per step [us]; p of steps ~ n^p and of CPU per step ~ n^p "
+                     "(their sum is p (all)):")
     for mode, p in per_step.items():
         rows = data["modes"][mode]
         lines.append(f"{mode + ' steps':32s}" + "".join(
