@@ -28,6 +28,14 @@ cpu ~ n^p per mode: a least-squares fit in log-log over all n measured, its spre
 same fit of each round's times alone, lowest..highest), and the fit over n >= 4. The
 issue's target (27) is p <= 1.15 in every mode over n = 2 … 256.
 
+Where a mode says how many steps its integrator took (the engine's me and monolithic:
+``settings["steps"]``, one integrator for the whole chain), each row keeps them, and
+the report splits p into the exponent of the steps and that of the CPU time per step:
+a single integrator ends a step at every event of any block, so the steps grow with the
+number of distinct event times (physics: 4 events at n = 2, 54 from n = 64 on, where the
+chain's ends no longer reach its middle within the run), while the cost per step is
+what the master's own overhead decides, and should grow like n.
+
 Modes: the fmpy-driven masters (``assemblies.masters``: cosim, me, monolithic with
 CasADi called from Python) and the composite FMU (``simulate_monolithic(engine="fmu")``,
 one FMU for the whole joined chain, driven as a CS FMU: the reference cost the joined
@@ -304,6 +312,10 @@ def sweep(sizes=SIZES, stop: float = STOP_TIME, step: float = STEP, tolerance: f
                 s = np.array([res[c][-1] for c in rec])
                 row.update(cpu_s=min(row["cpu_all_s"]), cpu_median_s=float(np.median(row["cpu_all_s"])),
                            max_ds_vs_ref=float(np.max(np.abs(s - s_ref))), reference=ref_by)
+                steps = getattr(res, "settings", {}).get("steps")
+                if isinstance(steps, int) and steps > 0:  # one integrator's: me, monolithic
+                    row.update(steps=steps, events=res.settings.get("events"),
+                               cpu_per_step_s=row["cpu_s"] / steps)
                 log(f"  n={n:3d} {mode:32s} {row['cpu_s'] * 1e3:10.1f} ms CPU (median "
                     f"{row['cpu_median_s'] * 1e3:.1f}, {len(row['cpu_all_s'])} runs)   "
                     f"max|s - s_ref| {row['max_ds_vs_ref']:.2e} ({ref_by})")
@@ -313,13 +325,25 @@ def sweep(sizes=SIZES, stop: float = STOP_TIME, step: float = STEP, tolerance: f
                     "cpu_s": core, "cpu_all_s": [core] if core else [],
                     "max_ds_vs_ref": table["engine cosim"][n]["max_ds_vs_ref"]}
     exponents = {mode: exponent_spread(rows) for mode, rows in table.items()}
+    per_step = {mode: step_exponents(rows) for mode, rows in table.items()}
     return {"stop_time": stop, "step": step, "tolerance": tolerance, "stretch": STRETCH,
             "repeats": repeats, "clock": "process CPU time (time.process_time)",
             "reference": f"composite FMU at tolerance {REFERENCE_TOLERANCE:g} up to n = "
                          f"{composite_up_to}, engine me at {REFERENCE_TOLERANCE:g} beyond",
             "sizes": list(sizes), "modes": {m: {str(n): r for n, r in rows.items()}
                                             for m, rows in table.items()},
-            "exponents": exponents, "notes": notes}
+            "exponents": exponents, "per_step": {m: e for m, e in per_step.items() if e},
+            "notes": notes}
+
+
+def step_exponents(rows: dict[int, dict]) -> dict[str, float]:
+    """Where every n has its step count: the fits (over all n) of steps ~ n^p and of the
+    least CPU time per step ~ n^p; their sum is the cost's p. {} where steps are not known."""
+    sizes = sorted(n for n, r in rows.items() if r.get("cpu_s"))
+    if len(sizes) < 2 or not all(rows[n].get("steps") for n in sizes):
+        return {}
+    return {"steps": fit_exponent(sizes, [rows[n]["steps"] for n in sizes])["all"],
+            "cpu_per_step": fit_exponent(sizes, [rows[n]["cpu_per_step_s"] for n in sizes])["all"]}
 
 
 def report(data: dict) -> str:
@@ -338,6 +362,18 @@ def report(data: dict) -> str:
         p = data["exponents"][mode]
         lines.append(f"{mode:32s}" + "".join(cells) + f"{p['all']:9.2f}"
                      + f"{p['lo']:6.2f}..{p['hi']:<5.2f}{p['tail']:9.2f}")
+    per_step = data.get("per_step", {})
+    if per_step:
+        lines.append("steps per run (me, monolithic: the one integrator's; cosim: communication "
+                     "steps), CPU per step [us]; p of steps ~ n^p and of CPU per step ~ n^p "
+                     "(their sum is p (all)):")
+    for mode, p in per_step.items():
+        rows = data["modes"][mode]
+        lines.append(f"{mode + ' steps':32s}" + "".join(
+            f"{rows.get(str(n), {}).get('steps') or '-':>9}" for n in sizes) + f"{p['steps']:9.2f}")
+        lines.append(f"{mode + ' us/step':32s}" + "".join(
+            f"{rows[str(n)]['cpu_per_step_s'] * 1e6:9.1f}" if rows.get(str(n), {}).get(
+                "cpu_per_step_s") else f"{'-':>9s}" for n in sizes) + f"{p['cpu_per_step']:9.2f}")
     lines.append("largest |s_i(T) - s_i^ref(T)| [m] vs " + data["reference"] + ":")
     for mode, rows in data["modes"].items():
         cells = [rows.get(str(n), {}).get("max_ds_vs_ref") for n in sizes]

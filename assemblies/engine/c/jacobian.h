@@ -57,6 +57,10 @@ void eng_jacobian_bandwidth(const eng_jacobian *J, int *kl, int *ku);
 /* Directional-derivative calls made so far, over all instances. */
 long eng_jacobian_evaluations(const eng_jacobian *J);
 
+/* Dependencies the plan looked at to find the pattern: what its cost grows with (each
+   column's reached knowns times their part's unknowns). */
+long eng_jacobian_plan_checks(const eng_jacobian *J);
+
 void eng_jacobian_free(eng_jacobian *J);
 
 #endif
