@@ -7,7 +7,8 @@
   (J2, J3, J4: see components/rotational/friction.py), so a locked clutch is an
   algebraic loop through the accelerations, which the monolithic master solves per
   combination of the clutch modes; a co-simulation or the me coupling of separate FMUs
-  cannot hold a lock exactly, so the scene runs monolithic (the composite FMU).
+  cannot hold a lock exactly, so the scene runs monolithic (the composite FMU); mode
+  cosim is refused in one line (see _COSIM_REFUSED) rather than printing wrong figures.
 
 Figures: every lock and break-away time of an engaged clutch and the final speeds, held
 to the event-driven reference of :mod:`.msl_rotational_references` (written from MSL's
@@ -33,6 +34,17 @@ from .scene import Figure, Scene, solver_accuracy
 _CC = CoupledClutches()
 _CLUTCHES = ("clutch1", "clutch2", "clutch3")
 
+
+# Measured (tolerance 1e-6, adaptive Jacobi with the loop J1 -> clutch1 -> clutch2 ->
+# clutch3 solved at each communication point): clutch2's FMU, free (fn = 0) until 0.4 s,
+# keeps the slide direction it took at t = 0, when its input acceleration was not yet
+# known (+1, where the composite finds -1); no indicator watches a free clutch, so it
+# engages sliding the wrong way and J3 ends at -5.5 rad/s against the reference's 2.46.
+# MSL's Free mode (an event at fn = 0 that sets the direction on engagement) removes it;
+# a lock across FMUs would then hold only to the communication step.
+_COSIM_REFUSED = ("a clutch free at a communication point keeps a stale slide direction "
+                  "and engages sliding the wrong way (clutch2 at 0.4 s: J3 ends at -5.5 "
+                  "rad/s, reference 2.46) until Clutch has MSL's free mode")
 
 # where every figure's reference comes from
 SOURCE = "independent integration (event-driven scipy of MSL's documented clutch law)"
@@ -120,7 +132,7 @@ MSL_ROTATIONAL_SCENES = {
                 "clutch3.mode", "clutch1.tau", "clutch2.tau", "clutch3.tau", "clutch1.fn",
                 "clutch2.fn", "clutch3.fn"],
         figures=_coupled_clutches_figures, plot=["J1.w", "clutch1.w", "clutch2.w", "clutch3.w"],
-        mode="monolithic", seed="MSL",
+        mode="monolithic", seed="MSL", refused={"cosim": _COSIM_REFUSED},
         reference="lock and break-away times, final speeds: event-driven scipy solution of "
                   "MSL's clutch law"),
 }

@@ -33,3 +33,15 @@ def test_coupled_clutches_in_the_me_coupling_names_the_loop():
     with pytest.raises(AssemblyError, match=r"algebraic loop between direct-feedthrough outputs: "
                                             r"clutch1.flange_a.tau -> J1.flange_b.a"):
         run_scene("coupled_clutches", mode="me")
+
+
+def test_coupled_clutches_in_cosim_is_refused_in_one_line_not_run_wrong():
+    """Co-simulation engages clutch2 at 0.4 s sliding the wrong way (its slide direction
+    kept from the free phase), so its figures cannot be met: the scene refuses the mode
+    in one line naming the assembly and the mode that runs it, before any work."""
+    with pytest.raises(AssemblyError) as err:
+        run_scene("coupled_clutches", mode="cosim")
+    message = str(err.value)
+    assert "\n" not in message
+    assert "assembly 'coupled_clutches'" in message and "mode 'cosim'" in message
+    assert "'monolithic' runs it" in message
