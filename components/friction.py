@@ -35,13 +35,42 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
     # zero of the margin must switch the mode, or the contact would stay stuck
     breaks_free = ca.if_else(applied >= static_limit, 1,
                              ca.if_else(applied <= -static_limit, -1, 0))
+    if not (isinstance(base, (int, float)) and base == 0):  # a moving base
+        _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free)
+        return
     stopped = ca.logic_and(q != 0, q * v <= 0)
     v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
-    # the state is rewritten only when the slide ends: base + (state - base) rounds, and a
-    # stuck neighbour (its base this state) would read the rounding as a relative speed
     e.jump(speed, ca.if_else(stopped, base, getattr(e.x, speed)))
     e.jump(mode, ca.if_else(ca.logic_or(stopped, q == 0),
                             ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
+
+
+#: the mode's start for a contact on a moving base (MSL's Unknown): decided by the event
+#: iteration at initialisation, from the relative speed, then from the forces
+UNKNOWN = 3
+
+
+def _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free) -> None:
+    """The jumps of a contact whose other side moves (`base`, the state absolute).
+
+    Stuck (mode 0) the state *is* the base's speed, so at every event it is set to the
+    base exactly: when the base itself jumps (the contact it is stuck to ends a slide,
+    its state set to its own base), a stuck contact follows instead of reading the jump,
+    a rounding-level speed, as a slide (which chattered at every lock of CoupledClutches'
+    clutches in series and, under scipy, cycled without settling at t = 0.8311). Only
+    the forces decide whether it leaves the stick, as in MSL (startForward reads the
+    torque, not w_rel). A slide that ends is set to the base too (never as
+    base + (state - base), which rounds). A mode of UNKNOWN (the start: MSL's initial())
+    takes the direction of the relative speed, or at rest sticks and lets the next
+    iteration weigh the forces; the state stays as the user started it.
+    """
+    sliding = ca.logic_or(q == 1, q == -1)
+    stopped = ca.logic_and(sliding, q * v <= 0)
+    to_base = ca.logic_or(stopped, q == 0)
+    e.jump(speed, ca.if_else(to_base, base, getattr(e.x, speed)))
+    # unknown at rest: stuck first, so that the next iteration weighs the forces of the
+    # stuck contact (those of whatever mode 3 selects in the equations mean nothing)
+    e.jump(mode, ca.if_else(to_base, breaks_free, ca.if_else(sliding, q, ca.sign(v))))
 
 
 def hard_stops(e, *, position: str, speed: str, low, high, mode: str = "mode") -> None:
