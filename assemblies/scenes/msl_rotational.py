@@ -76,10 +76,11 @@ def _coupled_clutches() -> Assembly:
 def mode_changes(result: Result, instance: str):
     """(time, settled mode) of each change of `instance`'s mode while engaged (fn > 0).
 
-    An event's rows may show a mode the event iteration then corrects (a stopping
-    clutch whose coupled neighbours' accelerations change with its own mode), so the
-    settled mode after an event is read from the first output row after it and
-    compared with the last row before it; events less than 1e-9 s apart are one.
+    The settled mode after an event is read from the first output row after it and
+    compared with the last row before it, and events less than 1e-9 s apart are one:
+    an event row records the mode its own iteration reached, and an assembly whose
+    iteration passes through a transient mode (as clutches in series did before a
+    stuck clutch followed its driver's jumps) is still read right.
     """
     ev = result.events.get(instance)
     if ev is None:

@@ -45,6 +45,9 @@ def test_coupled_clutches_in_cosim_is_refused_in_one_line_not_run_wrong():
     assert "\n" not in message
     assert "assembly 'coupled_clutches'" in message and "mode 'cosim'" in message
     assert "'monolithic' runs it" in message
+    from assemblies.sweep import sweep  # a study says it once, before its first run
+    with pytest.raises(AssemblyError, match="is not run in mode 'cosim'"):
+        sweep("coupled_clutches", {"J1.J": [1.0, 2.0]}, mode="cosim", progress=False)
 
 
 @pytest.mark.parametrize("engine", ("c", "fmpy"))
