@@ -6,9 +6,11 @@
   parameters and start values (J1.w = 10 rad/s). Each clutch carries its driven inertia
   (J2, J3, J4: see components/rotational/friction.py), so a locked clutch is an
   algebraic loop through the accelerations, which the monolithic master solves per
-  combination of the clutch modes; a co-simulation or the me coupling of separate FMUs
-  cannot hold a lock exactly, so the scene runs monolithic (the composite FMU); mode
-  cosim is refused in one line (see _COSIM_REFUSED) rather than printing wrong figures.
+  combination of the clutch modes, so the scene runs monolithic (the composite FMU).
+  Mode me: the fmpy-driven master (``engine="fmpy"``) solves the loop across the
+  separate FMUs at every evaluation and meets every figure; the compiled engine's me
+  coupling refuses the loop. Mode cosim is refused in one line (see _COSIM_REFUSED)
+  rather than printing wrong figures.
 
 Figures: every lock and break-away time of an engaged clutch and the final speeds, held
 to the event-driven reference of :mod:`.msl_rotational_references` (written from MSL's
