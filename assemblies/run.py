@@ -219,6 +219,7 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     if out is not None:  # a folder that cannot be written is found before the run
         out = writable_folder(out, "out", AssemblyError)
     asm = sc.assemble(arguments, shape)
+    sc.check_mode(mode, asm.name)
     if values is not None:
         set_instance_values(asm, values)
     for key, value in (params or {}).items():

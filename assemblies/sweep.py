@@ -325,6 +325,7 @@ def _check_settings(sc: Scene, stop_time, step, tolerance, mode, engine, outputs
     check_experiment(stop, sc.step if step is None else step,
                      sc.tolerance if tolerance is None else tolerance, "output step", start)
     check_choices(sc.mode if mode is None else mode, engine)
+    sc.check_mode(sc.mode if mode is None else mode, sc.name)  # once, not a row per run
     for out in outputs:
         if out.at not in REDUCTIONS and not start <= float(out.at) <= stop:
             raise SweepError(f"output '{out.label}': {out.at} s is not in the run, which "

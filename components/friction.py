@@ -46,17 +46,53 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
     # zero of the margin must switch the mode, or the contact would stay stuck
     breaks_free = ca.if_else(applied >= static_limit, 1,
                              0 if one_way else ca.if_else(applied <= -static_limit, -1, 0))
+    if not (isinstance(base, (int, float)) and base == 0):  # a moving base
+        _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free, free)
+        return
     stopped = ca.logic_and(q != 0, q * v <= 0)
     settles = ca.logic_or(stopped, q == 0)
     if free is not None:
         stopped = ca.logic_and(stopped, ca.logic_not(free))
         settles = ca.logic_or(settles, free)
     v_new = ca.if_else(stopped, 0, v)  # exactly zero: stuck means no relative motion
-    # the state is rewritten only when the slide ends: base + (state - base) rounds, and a
-    # stuck neighbour (its base this state) would read the rounding as a relative speed
     e.jump(speed, ca.if_else(stopped, base, getattr(e.x, speed)))
     e.jump(mode, ca.if_else(settles,
                             ca.if_else(v_new == 0, breaks_free, ca.sign(v_new)), q))
+
+
+#: the mode's start for a contact on a moving base (MSL's Unknown): decided by the event
+#: iteration at initialisation, from the relative speed, then from the forces
+UNKNOWN = 3
+
+
+def _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free, free) -> None:
+    """The jumps of a contact whose other side moves (`base`, the state absolute).
+
+    Stuck (mode 0) the state *is* the base's speed, so at every event it is set to the
+    base exactly: when the base itself jumps (the contact it is stuck to ends a slide,
+    its state set to its own base), a stuck contact follows instead of reading the jump,
+    a rounding-level speed, as a slide (which chattered at every lock of CoupledClutches'
+    clutches in series and, under scipy, cycled without settling at t = 0.8311). Only
+    the forces decide whether it leaves the stick, as in MSL (startForward reads the
+    torque, not w_rel). A slide that ends is set to the base too (never as
+    base + (state - base), which rounds). A mode of UNKNOWN (the start: MSL's initial())
+    takes the direction of the relative speed, or at rest sticks and lets the next
+    iteration weigh the forces; the state stays as the user started it. A `free`
+    contact (coulomb_modes) is never set to its base: its mode follows the sign of the
+    relative speed.
+    """
+    sliding = ca.logic_or(q == 1, q == -1)
+    stopped = ca.logic_and(sliding, q * v <= 0)
+    to_base = ca.logic_or(stopped, q == 0)
+    if free is not None:
+        to_base = ca.logic_and(to_base, ca.logic_not(free))
+    e.jump(speed, ca.if_else(to_base, base, getattr(e.x, speed)))
+    # unknown at rest: stuck first, so that the next iteration weighs the forces of the
+    # stuck contact (those of whatever mode 3 selects in the equations mean nothing)
+    q_new = ca.if_else(to_base, breaks_free, ca.if_else(sliding, q, ca.sign(v)))
+    if free is not None:
+        q_new = ca.if_else(free, ca.if_else(v == 0, breaks_free, ca.sign(v)), q_new)
+    e.jump(mode, q_new)
 
 
 def hard_stops(e, *, position: str, speed: str, low, high, mode: str = "mode") -> None:

@@ -36,6 +36,9 @@ class ModelVariable:
     input_derivative: int | None = None  # for inputs: index (in u) of its derivative input
     is_indicator: bool = False
     nominal: float = 1.0  # declared for states; FMI's default elsewhere
+    #: the value the runtime starts from where the XML may state none (a mode: a
+    #: calculated output, set by the model's own start before the initial event iteration)
+    runtime_start: float | None = None
 
 
 def variable_table(model: FlatModel) -> list[ModelVariable]:
@@ -72,7 +75,7 @@ def variable_table(model: FlatModel) -> list[ModelVariable]:
     for i, v in enumerate(model.modes):
         add(name=v.name, kind="MF_DISCRETE", index=i, unit="", description=v.description,
             start=None, is_integer=True, causality="output", variability="discrete",
-            initial="calculated")
+            initial="calculated", runtime_start=v.start)
     # settings of the runtime itself, the same in every FMU, after the model's own
     # variables so that adding one never renumbers a model's value references
     add(name="solver", kind="MF_RUNTIME", index=0, unit="",
@@ -148,7 +151,8 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
     lines.append("static const mf_variable variables[] = {")
     for row in table:
         lines.append(f"    {{{_c_string(row.name)}, {row.kind}, {row.index}, {int(row.is_integer)}, "
-                     f"{_c_double(row.start)}, {_c_double(row.nominal)}}},")
+                     f"{_c_double(row.start if row.runtime_start is None else row.runtime_start)}, "
+                     f"{_c_double(row.nominal)}}},")
     lines.append("};")
     derivs = [(-1 if v.derivative_input is None else v.derivative_input) for v in model.inputs]
     lines.append(f"static const int input_derivative[] = {{{', '.join(map(str, derivs)) or '-1'}}};")

@@ -180,8 +180,9 @@ def coupling_order(couplings, instances, assembly: str = "") -> list:
             where = f"assembly '{assembly}': " if assembly else ""
             raise AssemblyError(f"{where}algebraic loop between direct-feedthrough outputs: "
                                 f"{path}; "
-                                "the me coupling cannot solve loops yet (mode monolithic "
-                                "solves linear ones)")
+                                "the compiled engine's me coupling cannot solve loops yet "
+                                "(mode monolithic solves linear ones, and so does engine "
+                                "'fmpy' in mode me)")
         active.append(i)
         for j in needs[i]:
             visit(j)

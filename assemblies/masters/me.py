@@ -28,7 +28,14 @@ from ..foreign import check_own_only
 from ..result import Result, Table
 from .cosim import SimulationError, _Instance, _record_columns
 from .hybrid import METHODS, EventOutcome, IntegrationError, integrate
-from .loops import coupling_order
+from .loops import LoopError, coupling_groups, is_loop, solve_loop
+
+# An algebraic loop's inputs are made consistent to this fraction of the solver's
+# tolerance (relative, solve_loop's test): far below what the integration resolves.
+# A loop linear in its inputs (locked clutches: the torques through the accelerations)
+# takes one Newton step from the FMUs' directional derivatives.
+LOOP_TOLERANCE = 1e-3
+MAX_LOOP_ITERATIONS = 20
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
@@ -76,9 +83,17 @@ class _ModelInstance(_Instance):
 class _CoupledSystem:
     """All instances as one hybrid ODE for :func:`assemblies.hybrid.integrate`."""
 
-    def __init__(self, instances: dict[str, _ModelInstance], couplings, columns, name=""):
-        self.instances = instances
-        self.couplings = coupling_order(couplings, instances, name)
+    def __init__(self, instances: dict[str, _ModelInstance], couplings, columns, name="",
+                 tolerance=1e-8):
+        self.instances, self.couplings, self.name = instances, list(couplings), name
+        depends = {n: i.depends for n, i in instances.items()}
+        inputs = {n: i.inputs for n, i in instances.items()}
+        # strongly connected groups, each after the ones it needs; a group of several
+        # couplings (or one feeding its own source) is an algebraic loop, solved per call
+        self.groups = coupling_groups(self.couplings, depends, inputs)
+        self.loops = [g for g in self.groups if is_loop(g, self.couplings, depends, inputs)]
+        self.loop_options = dict(tolerance=LOOP_TOLERANCE * tolerance,
+                                 max_iterations=MAX_LOOP_ITERATIONS)
         self.columns = columns
         self.slices, start = {}, 0
         for name, inst in instances.items():
@@ -96,13 +111,26 @@ class _CoupledSystem:
         self.propagate()
         self._at = key
 
+    def _value(self, inst, var):
+        return self.instances[inst].get([var])[0]
+
+    def _set_value(self, inst, var, value):
+        self.instances[inst].set(var, value)
+
     def propagate(self) -> list[float]:
-        values = []
-        for c in self.couplings:
-            value = c.gain * self.instances[c.source[0]].get([c.source[1]])[0]
-            self.instances[c.target[0]].set(c.target[1], value)
-            values.append(value)
-        return values
+        """Every input set from its source, loops solved; the inputs' values."""
+        for group in self.groups:
+            if group in self.loops:
+                try:
+                    solve_loop(group, self.couplings, self._value, self._set_value, self._value,
+                               lambda i, o, u: self.instances[i].partial(o, u),
+                               **self.loop_options)
+                except LoopError as exc:
+                    raise SimulationError(f"assembly '{self.name}': {exc}") from None
+            else:
+                c = self.couplings[group[0]]
+                self._set_value(*c.target, c.gain * self._value(*c.source))
+        return [self._value(*c.target) for c in self.couplings]
 
     def rhs(self, t, y):
         self._set(t, y)
@@ -188,7 +216,7 @@ def simulate_me(assembly: Assembly, stop_time: float, step: float, tolerance: fl
         for name, comp in assembly.components.items():
             instances[name] = _ModelInstance(name, comp)
         columns = _record_columns(instances, record)
-        system = _CoupledSystem(instances, couplings, columns, assembly.name)
+        system = _CoupledSystem(instances, couplings, columns, assembly.name, tolerance)
         for inst in instances.values():
             for key, value in {**inst.component.values, **inst.component.starts}.items():
                 inst.set(key, value)

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from ..assembly import Assembly
+from ..assembly import Assembly, AssemblyError
 from ..result import Result
 
 
@@ -138,6 +138,17 @@ class Scene:
     #: modes the scene runs with a solver of its own: mode -> solve(assembly, arguments,
     #: **the masters' common keywords) -> Result
     solvers: dict = field(default_factory=dict)
+    #: modes whose results the figures cannot judge: mode -> why, in a clause; a run in
+    #: one of them is refused in one line rather than printing numbers known to be wrong
+    refused: dict = field(default_factory=dict)
+
+    def check_mode(self, mode: str, assembly: str) -> None:
+        """Refuse a mode of :attr:`refused` (AssemblyError, one line naming the assembly
+        and the scene's own mode, which runs it)."""
+        why = self.refused.get(mode)
+        if why is not None:
+            raise AssemblyError(f"scene '{self.name}' (assembly '{assembly}') is not run in "
+                                f"mode '{mode}': {why}; its own mode '{self.mode}' runs it")
 
     def arguments(self, given: dict, mode: str) -> dict:
         """`build`'s keywords: every parameter's default, replaced by `given`'s (NAME:

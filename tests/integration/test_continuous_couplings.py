@@ -12,7 +12,7 @@ import pytest
 from assemblies.engine import liveness
 from assemblies.engine.me import simulate_me
 from assemblies.engine.prepare import prepared, record_columns
-from assemblies.masters.me import coupling_order
+from assemblies.masters.loops import coupling_order
 from assemblies.pruning import prune_unrecorded
 from assemblies.scenes import scene
 from components import SpringBlock
