@@ -225,3 +225,33 @@ def test_a_wrong_run_fails_the_slide_figure():
     assert not wrong.passed and wrong.error > 2 * wrong.bound, wrong
     right = {f.name: f for f in _figures(run.result, run.result.assembly)}["slides"]
     assert right.passed, right
+
+
+# --- a thousand blocks in me: what the plan asks of the assembly scales with it -------
+def test_step_cap_follows_time_over_couplings_without_joining(monkeypatch):
+    """Whether an indicator can move while the states stand still (steps capped at the
+    output interval) is followed over the couplings on each member kind's own model: the
+    same answer as the joined model's (its indicators' symbolic dependence on time) for
+    the scenes of several members, and a 1000-block chain answers without being joined
+    (joining it took 118 s of a 500-block chain's first me run)."""
+    import casadi as ca
+    from assemblies.engine.me import step_limit_needed
+    from assemblies.masters import monolithic
+    from assemblies.scenes import scene
+    from assemblies.scenes.burridge_knopoff import fault_chain
+    from components.dae import flatten
+    names = ["stick_slip", "moving_table", "conveyor", "two_block_belt", "resonance_growth",
+             "translational_friction", "coupled_clutches", "burridge_knopoff"]
+    joined = {}
+    for name in names:
+        flat = flatten(monolithic.composite(scene(name).build()))
+        joined[name] = bool(flat.z.numel()) and bool(ca.depends_on(flat.z, flat.t))
+    assert set(joined.values()) == {True, False}
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the step cap joined the assembly")
+    monkeypatch.setattr(monolithic, "join", refuse)
+    assert {name: step_limit_needed(scene(name).build()) for name in names} == joined
+    chain = fault_chain(1000)
+    chain.name = "bk3_step_cap_chain"  # no answer kept from an earlier run
+    assert step_limit_needed(chain) is False  # the plates' travel is a state
