@@ -503,18 +503,20 @@ def main(argv: list[str] | None = None) -> int:
 
 
 #: the scene's parameters (--param NAME=VALUE): its chain's shape and the run's length
-#: in events. The FMU masters are bounded by runs measured here (2 loaded cores, FMUs
-#: cached): me loads one FMU instance per block and per link, and the causality search
-#: recurses once per instance, past Python's stack beyond ~1000 instances (n = 330);
-#: monolithic builds the joined model anew for each n
+#: in events. The FMU masters are bounded by runs measured here (CPU on 2 loaded cores,
+#: FMUs cached; `python -m benchmarks.burridge_knopoff --fmu-modes`): me steps every
+#: block in its one integrator at every event, and events grow with n, so its CPU grows
+#: as n^2 and more (n = 250: 6 s, 500: 26 s, 600: 43 s, 750: 92 s); monolithic builds
+#: the joined model anew for each n (n = 250: 42 s, of which the engine 2.6 s)
 SCENE_PARAMETERS = (
     SceneParameter("n", SCENE_CHAIN["n"], 1, 100_000, "1", "number of blocks", integer=True,
-                   most={"me": (300, "its causality search recurses once per instance, "
-                                     "3n of them, and overflows beyond n = 330; n = 300 "
-                                     "took 12 s here; run mode fault"),
+                   most={"me": (600, "its one integrator steps every block at every event, "
+                                     "and events grow with n: n = 600 took 43 s CPU here, "
+                                     "n = 750 92 s; run mode fault"),
                          "monolithic": (250, "the joined model's CasADi code and gcc build "
-                                             "grow with n: n = 250 took 34 s here, n = 300 "
-                                             "66 s; run mode fault"),
+                                             "grow faster than n: n = 250 took 42 s CPU "
+                                             "here (its engine 2.6 s), n = 300 66 s; run "
+                                             "mode fault"),
                          "cosim": (100, "every block is coupled at every communication "
                                         "step: n = 100 took 34 s here; run mode fault")}),
     SceneParameter("ell", SCENE_CHAIN["ell"], 0.0, 1e3, "1",
