@@ -70,7 +70,13 @@ class Link:
 
 def _search(names, options, links, check_dangling, supplied):
     """First assignment (instance -> profile) satisfying every link, or None."""
-    by_instance = {n: [lk for lk in links if n in (lk.a[0], lk.b[0])] for n in names}
+    # each instance's links, in one pass (one pass per instance was quadratic: 2 s of a
+    # 500-block chain)
+    by_instance = {n: [] for n in names}
+    for lk in links:
+        for end in dict.fromkeys((lk.a[0], lk.b[0])):
+            if end in by_instance:
+                by_instance[end].append(lk)
     chosen: dict = {}
 
     def ok(name):

@@ -21,6 +21,8 @@
    ratio, and the largest difference of the slides' end times.
 4. A Dask sweep over the weakening alpha (n = 300, 5000 events each): b, the share of
    delocalised events, the largest moment; with ``--plots``, the distributions.
+5. (``--fmu-modes``, alone) the scene as FMUs in me and monolithic at n = 250, 500,
+   1000: CPU of the first run, of its plan and of the engine alone (fmu_modes).
 
 CPU times are ``time.process_time`` around the one C call (the fault solver) or the whole
 scipy loop; the machine is shared, so each figure is the least of R rounds. Every run is
@@ -46,6 +48,7 @@ SIZES = (10, 30, 100, 300, 1000)
 SCALING_EVENTS = 3000
 SCIPY_N, SCIPY_SLIDES = 100, 300
 ALPHAS = (1.5, 2.5, 3.5, 4.5)
+FMU_SIZES = (250, 500, 1000)
 
 
 def _fit(n, y) -> float:
@@ -147,6 +150,52 @@ def versus_scipy(repeats: int, n: int = SCIPY_N, slides: int = SCIPY_SLIDES) -> 
             "slides_fault": int(r.slides.size)}
 
 
+def _cpu() -> float:
+    """This process's CPU and its finished children's (gcc building an FMU)."""
+    import resource
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
+
+
+def _plan(seconds: float) -> str:
+    """A plan's CPU, the difference of two runs: "~0" within the runs' own spread (the
+    machine is shared; an engine run of 25 s moves by a few seconds)."""
+    return f"{seconds:.1f}" if seconds > 1.0 else "~0"
+
+
+def fmu_modes(sizes=FMU_SIZES, modes=("me", "monolithic")) -> list[dict]:
+    """The scene as FMUs (its default run, 75 s at tolerance 1e-10) at each n, past the
+    scene's per-mode limits: CPU of the first run (the plan: causality, FMUs loaded or
+    built, the step cap; then the engine) and of a second run of the same plan in the
+    process (the engine alone); the difference is the plan's. FMUs come from the cache
+    as found: `built` says whether this run compiled one (gcc's CPU counted)."""
+    from assemblies.engine.me import simulate_me, simulate_monolithic
+    from assemblies.scenes import scene
+    from assemblies.scenes.burridge_knopoff import _scene_chain
+    sc = scene("burridge_knopoff")
+    simulate = {"me": simulate_me, "monolithic": simulate_monolithic}
+    rows = []
+    for mode in modes:
+        for n in sizes:
+            asm = _scene_chain(n)
+            runs = []
+            for _ in range(2):
+                started, own = _cpu(), time.process_time()
+                res = simulate[mode](asm, sc.stop_time, sc.step, sc.tolerance)
+                total = _cpu() - started
+                runs.append((total, total - (time.process_time() - own)))  # gcc's share
+            s = res.settings
+            rows.append({"mode": mode, "n": n, "first_cpu_s": runs[0][0],
+                         "engine_cpu_s": runs[1][0], "plan_cpu_s": runs[0][0] - runs[1][0],
+                         "built": runs[0][1] > 0.5, "steps": s["steps"], "events": s["events"],
+                         "rhs_calls": s["rhs_calls"], "under_60_s": runs[0][0] < TARGET_S})
+            print(f"   {mode:>10} n = {n:>5}: first run {runs[0][0]:7.1f} s CPU (plan "
+                  f"{_plan(runs[0][0] - runs[1][0])} s, engine {runs[1][0]:6.1f} s"
+                  f"{', an FMU built' if runs[0][1] > 0.5 else ''}), {s['steps']} steps, "
+                  f"{s['events']} events", flush=True)
+    return rows
+
+
 def results_section(data: dict) -> list[str]:
     """The "Burridge-Knopoff fault (issue 30)" section of RESULTS.md from the JSON."""
     big, sc, vs = data["target"], data["scaling"], data["versus_scipy"]
@@ -182,6 +231,16 @@ def results_section(data: dict) -> list[str]:
               f"events over all blocks (n = {vs['n']}, {vs['slides']} slides): "
               f"{vs['scipy_cpu_s']:.3g} s against {1e3 * vs['fault_cpu_s']:.3g} ms, "
               f"**{vs['speed_ratio']:.0f}x** (scipy timed once).", ""]
+    if data.get("fmu_modes"):
+        lines += ["The scene as FMUs (`--fmu-modes`; its default 75 s at tolerance 1e-10, CPU "
+                  "of the first run in a process, the engine's share from a second run):", "",
+                  "| mode | n | CPU [s] | plan [s] | engine [s] | steps | events |",
+                  "|---|---|---|---|---|---|---|"]
+        for r in data["fmu_modes"]:
+            lines.append(f"| {r['mode']} | {r['n']} | {r['first_cpu_s']:.1f}"
+                         f"{' (FMU built)' if r['built'] else ''} | {_plan(r['plan_cpu_s'])} | "
+                         f"{r['engine_cpu_s']:.1f} | {r['steps']} | {r['events']} |")
+        lines.append("")
     return lines
 
 
@@ -197,7 +256,23 @@ def main(argv=None) -> int:
                     help="also write the section of benchmarks/RESULTS.md")
     ap.add_argument("--from-json", action="store_true",
                     help="only write the RESULTS.md section from the JSON (no run)")
+    ap.add_argument("--fmu-modes", nargs="*", metavar="MODE=N,N",
+                    help="only section 5, the scene as FMUs, e.g. me=250,500 monolithic=250 "
+                         "(none given: both modes at 250,500,1000), merged into the JSON")
     a = ap.parse_args(argv)
+    if a.fmu_modes is not None:
+        plan = {m: FMU_SIZES for m in ("me", "monolithic")}
+        if a.fmu_modes:
+            plan = {m: tuple(int(v) for v in sizes.split(","))
+                    for m, _, sizes in (arg.partition("=") for arg in a.fmu_modes)}
+        print("5. the scene as FMUs (CPU: first run, its plan, the engine alone)")
+        path = Path(a.json)
+        data = json.loads(path.read_text()) if path.exists() else {}
+        data["fmu_modes"] = [row for mode, sizes in plan.items()
+                             for row in fmu_modes(sizes, (mode,))]
+        path.write_text(json.dumps(data, indent=1, default=float) + "\n")
+        print(f"\nwrote {a.json}")
+        return 0
     if a.from_json:
         replace_section(Path(__file__).parent / "RESULTS.md",
                         results_section(json.loads(Path(a.json).read_text())))

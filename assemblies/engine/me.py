@@ -21,10 +21,9 @@ from typing import Callable
 import numpy as np
 
 from components.component import SOLVER_METHODS, Component
-from components.interfaces import ComponentError
 from components.dae import flatten
 from components.lazy import lazy
-from fmus.build import component_facts, recipes
+from fmus.build import component_facts, fmu_recipe, recipes
 
 from ..assembly import Assembly, AssemblyError
 from ..experiment import check_experiment, output_times
@@ -36,7 +35,7 @@ from ..result import Result, Table
 from . import binding as B
 from .build import library
 from .liveness import continuous_couplings, indicator_couplings, row_couplings
-from .prepare import (assembly_recipe, class_defaults, member_termination, prepared,
+from .prepare import (binary_key, class_defaults, member_termination, prepared,
                       prepared_composite, record_columns, rest_groups, structure_key)
 
 ca = lazy("casadi")  # loaded by the first equation written, not by an import
@@ -284,31 +283,76 @@ def indicators_follow_time(component) -> bool:
     return component_facts(class_defaults(component))["indicators_follow_time"]
 
 
+def time_paths(component) -> dict:
+    """Where time enters `component`'s model, for the step cap's question across couplings:
+    {"indicators": (written in terms of time?, [the inputs they read]), "outputs":
+    {name: (the same for that output, a state or a mode)}}. Dependencies are structural
+    (CasADi's depends_on), as the joined model's would be. A fact of its class, profile
+    and options, kept in the recipe store beside the FMU's facts (read without flattening
+    once known)."""
+    memo = _time_paths.get(binary_key(component))
+    if memo is not None:
+        return memo
+    defaults = class_defaults(component)
+    key = fmu_recipe(defaults)
+    known = recipes().get(key).get("time_paths") if key is not None else None
+    if known is None:
+        m = flatten(defaults)
+
+        def reads(expr):
+            return (bool(ca.depends_on(expr, m.t)),
+                    [v.name for i, v in enumerate(m.inputs) if ca.depends_on(expr, m.u[i])])
+        known = {"indicators": reads(m.z) if m.z.numel() else (False, []),
+                 "outputs": {v.name: reads(m.y[i]) for i, v in enumerate(m.outputs)}}
+        if key is not None:
+            recipes().update(key, time_paths=known)
+    _time_paths[binary_key(component)] = known
+    return known
+
+
+_time_paths: dict = {}
+
+
 def step_limit_needed(assembly: Assembly) -> bool:
     """Can an event indicator move while every state stands still? Then a step that grows
     long while a contact sticks could carry an excursion of the indicator between its
     samples (a shaken table's acceleration moving the static margin), and steps are
-    capped at the output interval. The coupled instances are the joined model's equations,
-    so the joined model answers for them: its indicators move alone when they are written
-    in terms of time (a driver's motion, a shaking). An FMU we did not generate, or members
-    that cannot be joined, cannot tell: capped."""
-    components = list(assembly.components.values())
-    if not all(isinstance(c, Component) for c in components):
+    capped at the output interval. Across couplings an indicator moves alone when time
+    reaches it: written in terms of time, or reading an input whose source output is
+    (a driver's motion, a shaking), directly or through further couplings. Followed on
+    each member kind's time_paths over the couplings, in time linear in the assembly
+    (joining the members to ask the joined model cost minutes at a thousand instances);
+    a structural path is a dependency the joined model has too, short of a cancellation.
+    An FMU we did not generate cannot tell: capped."""
+    components = assembly.components
+    if not all(isinstance(c, Component) for c in components.values()):
         return True
     if len(components) == 1 and not assembly.connections:
-        return indicators_follow_time(components[0])
-    key = assembly_recipe(assembly, "indicators_follow_time")
-    known = recipes().get(key).get("indicators_follow_time")
-    if known is not None:
-        return known
-    from ..masters.monolithic import composite  # here: it loads scipy's integrators
-    try:
-        flat = flatten(composite(assembly))
-    except (AssemblyError, ComponentError):  # not joinable; bad values are the FMUs' to name
-        return True
-    follows = bool(flat.z.numel()) and bool(ca.depends_on(flat.z, flat.t))
-    recipes().update(key, indicators_follow_time=follows)
-    return follows
+        return indicators_follow_time(next(iter(components.values())))
+    feeds = {c.target: c.source for c in assembly.couplings()}
+    paths = {name: time_paths(comp) for name, comp in components.items()}
+    # depth-first over (instance, variable), a loop with its own stack: a long chain's
+    # couplings would nest one frame per instance
+    todo, seen = [], set()
+    for name, p in paths.items():
+        follows, inputs = p["indicators"]
+        if follows:
+            return True
+        todo += [(name, u) for u in inputs]
+    while todo:
+        node = todo.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if node in feeds:  # a fed input: its source's value
+            todo.append(feeds[node])
+            continue
+        name, var = node
+        follows, inputs = paths[name]["outputs"].get(var, (False, []))  # a state, a mode
+        if follows:
+            return True
+        todo += [(name, u) for u in inputs]
+    return False
 
 
 def _plan(key, build) -> _Plan:
