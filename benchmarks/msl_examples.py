@@ -5,8 +5,7 @@ composite FMU beside fmpy running the same composite FMU, and the scipy referenc
 
 The assembly's clutches hold their driven inertias, so a lock is an algebraic loop the
 monolithic join solves; mode monolithic (the composite FMU) is the mode that runs it
-exactly (cosim and the me coupling of separate FMUs cannot hold a lock), so the
-comparison is of three runners of the same joined model: the engine (``run_scene`` in
+exactly, so the comparison is of three runners of the same joined model: the engine (``run_scene`` in
 mode monolithic, the user's call), fmpy's ``simulate_fmu`` on the same composite FMU
 (Model Exchange with CVode, and Co-Simulation with our FMU's own solver), and the
 joined CasADi model under scipy (``engine="reference"``). Times are CPU seconds of this
@@ -16,9 +15,12 @@ J1..J4.w against the event-driven reference of MSL's clutch law, solved on the r
 own output times (fmpy's ME rows include its event instants, where interpolating the
 1 ms reference would add an error of its own).
 
-Each mode of our engine has a row: ``me`` and ``cosim`` are refused (the row says why,
-in the refusal's words). fmpy runs the same assembly of separate FMUs in the reference
-me master (``engine="fmpy"``), which solves the loop at every evaluation. The runners of the composite FMU run again with
+Each mode of our engine has a row: ``me`` is refused (the row says why, in the
+refusal's words); ``cosim`` runs the separate Co-Simulation FMUs (adaptive Jacobi to the
+scene's communication tolerance, the loop solved at each communication point, a lock
+across FMUs held to that tolerance). fmpy runs the same assembly of separate FMUs in the
+reference me master (``engine="fmpy"``), which solves the loop at every evaluation, and
+in the reference cosim master. The runners of the composite FMU run again with
 output every 1.1 ms (``--shifted``): clutch1's torque has a kink where its normal force
 cos(2 pi 0.2 t) crosses 0 at t = 1.25 s (no event marks it), and a step across it
 carries an error the step's error estimate does not see (~3e-8 rad/s at 1 ms); fmpy's
@@ -86,6 +88,7 @@ def _runners(step=None):
         runners["scipy reference master"] = scipy_reference
         # fmpy driving the separate FMUs: the reference me master, the loop solved per call
         runners["fmpy me master (separate FMUs)"] = engine("me", "fmpy")
+        runners["fmpy cosim master (separate FMUs)"] = engine("cosim", "fmpy")
     return runners
 
 

@@ -291,7 +291,8 @@ def _solve_by_mode(r, w, e, component, where):
         if solution is None:
             solution = branch
             continue
-        selected = functools.reduce(ca.logic_and, [qi == v for qi, v in zip(q, values)])
+        selected = functools.reduce(ca.logic_and, [m.selects(qi, v) for m, qi, v
+                                                   in zip(component.modes, q, values)])
         solution = ca.if_else(selected, branch, solution)
     return solution
 

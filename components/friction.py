@@ -31,22 +31,29 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
     event (a start value MSL rules out), which the caller must treat as an error.
     `free`: true where the contact carries no force at all (MSL's free mode, a clutch or
     brake with no normal force; both limits must then be 0): it neither sticks nor ends
-    a slide (no reset of the state), its mode only follows the relative speed's sign, so
-    that the contact slides the right way once pressed again.
+    a slide (no reset of the state). On a fixed base its mode follows the relative
+    speed's sign; on a moving base it is MSL's Free (:data:`FREE`), and being pressed
+    again is an event that takes the direction of the relative speed then.
     """
     q, v = getattr(e.q, mode), getattr(e.x, speed) - base
+    moving_base = not (isinstance(base, (int, float)) and base == 0)
+    released = free is not None and moving_base  # the contact has MSL's Free mode
     # without `free`, the expressions (and the generated code) are the two-mode machine's
     held = q == 0 if free is None else ca.logic_and(q == 0, ca.logic_not(free))
     e.residual(ca.if_else(held, acceleration, friction + kinetic_limit * q))
-    e.indicator(ca.if_else(q == 0, static_limit - applied, q * v),
+    e.indicator(ca.if_else(q == 0, static_limit - applied,
+                           ca.if_else(q == FREE, 1, q * v) if released else q * v),
                 "stuck: static margin for forward slip; sliding: relative speed")
     e.indicator(1 if one_way else ca.if_else(q == 0, static_limit + applied, 1),
                 "stuck: static margin for backward slip")
+    if released:  # free and pressed differ in sign: each change of the two is an event
+        e.indicator(ca.if_else(free, -1, 1) * ca.if_else(q == FREE, 1, -1),
+                    "free: pressed again; pressed: released")
     # at the threshold itself the contact breaks free: an event located exactly at the
     # zero of the margin must switch the mode, or the contact would stay stuck
     breaks_free = ca.if_else(applied >= static_limit, 1,
                              0 if one_way else ca.if_else(applied <= -static_limit, -1, 0))
-    if not (isinstance(base, (int, float)) and base == 0):  # a moving base
+    if moving_base:
         _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free, free)
         return
     stopped = ca.logic_and(q != 0, q * v <= 0)
@@ -63,6 +70,11 @@ def coulomb_modes(e, *, speed: str, acceleration, friction, applied, static_limi
 #: the mode's start for a contact on a moving base (MSL's Unknown): decided by the event
 #: iteration at initialisation, from the relative speed, then from the forces
 UNKNOWN = 3
+#: a contact with no normal force on a moving base (MSL's Free): no direction is kept
+#: while free; pressed again, it takes the relative speed's then. Like UNKNOWN, a
+#: Mode's `also`: its equations are those of -1 (no friction while free: both limits 0),
+#: and an event leaves it before any step once pressed
+FREE = 2
 
 
 def _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free, free) -> None:
@@ -78,8 +90,12 @@ def _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free, free) -> None:
     base + (state - base), which rounds). A mode of UNKNOWN (the start: MSL's initial())
     takes the direction of the relative speed, or at rest sticks and lets the next
     iteration weigh the forces; the state stays as the user started it. A `free`
-    contact (coulomb_modes) is never set to its base: its mode follows the sign of the
-    relative speed.
+    contact (coulomb_modes) is never set to its base and its mode is FREE: a direction
+    kept while free went stale without an event (a contact free at rest took one from a
+    zero push, +1, whose indicator q v then left 0 the wrong way unseen: in a
+    co-simulation CoupledClutches' clutch3, free until 0.9 s, slid the wrong way once
+    pressed). Pressed again (an event: coulomb_modes' third indicator), it slides the
+    way the relative speed goes, or at rest sticks and lets the forces decide.
     """
     sliding = ca.logic_or(q == 1, q == -1)
     stopped = ca.logic_and(sliding, q * v <= 0)
@@ -91,7 +107,7 @@ def _jumps_on_a_base(e, speed, mode, q, v, base, breaks_free, free) -> None:
     # stuck contact (those of whatever mode 3 selects in the equations mean nothing)
     q_new = ca.if_else(to_base, breaks_free, ca.if_else(sliding, q, ca.sign(v)))
     if free is not None:
-        q_new = ca.if_else(free, ca.if_else(v == 0, breaks_free, ca.sign(v)), q_new)
+        q_new = ca.if_else(free, FREE, q_new)
     e.jump(mode, q_new)
 
 

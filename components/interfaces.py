@@ -7,12 +7,16 @@ one causality profile into an explicit, mode-switched ODE.
 """
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from dataclasses import dataclass, field
 from typing import Callable
 
 from .errors import ComponentError  # noqa: F401  (defined there, under the root error)
+from .lazy import lazy
+
+ca = lazy("casadi")  # for Mode.selects's conditions; not loaded by an import
 
 
 @dataclass(frozen=True)
@@ -94,6 +98,16 @@ class Mode:
     start: int
     description: str
     values: tuple[int, ...] = (-1, 0, 1)  # every value it can take
+    # values it can take with the equations of values[0] (a start decided by the first
+    # event, MSL's Free of a clutch): solved per mode, so a member of a joined model in
+    # one of them leaves the others' equations as they are
+    also: tuple[int, ...] = ()
+
+    def selects(self, q, value):
+        """The condition under which the mode `q` (a symbol) has the equations of `value`."""
+        if value != self.values[0] or not self.also:
+            return q == value
+        return functools.reduce(ca.logic_or, [q == v for v in (value, *self.also)])
 
 
 @dataclass(frozen=True)

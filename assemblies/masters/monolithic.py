@@ -199,20 +199,21 @@ def _solve_loop(assembly, members, residual, unknowns, targets):
     shown = ", ".join(f"{i}.{v}" for i, v in targets)
     where = f"assembly '{assembly.name}': algebraic loop through {shown}"
     J = ca.jacobian(residual, unknowns)
-    modes = [(m.q[k], mode.values) for m in members.values()
+    modes = [(m.q[k], mode) for m in members.values()
              for k, mode in enumerate(m.component.modes) if ca.depends_on(J, m.q[k])]
     try:
         if not modes:
             return _solve_linear(residual, unknowns, where)
         symbols = ca.vertcat(*[q for q, _ in modes])
         solution = None
-        for values in itertools.product(*[v for _, v in modes]):
+        for values in itertools.product(*[mode.values for _, mode in modes]):
             fixed = ca.substitute(residual, symbols, ca.DM(values))
             branch = _solve_linear(fixed, unknowns, f"{where} in modes {values}")
             if solution is None:
                 solution = branch
                 continue
-            chosen = functools.reduce(ca.logic_and, [q == v for (q, _), v in zip(modes, values)])
+            chosen = functools.reduce(ca.logic_and, [mode.selects(q, v)
+                                                     for (q, mode), v in zip(modes, values)])
             solution = ca.if_else(chosen, branch, solution)
         return solution
     except ComponentError as exc:
@@ -470,10 +471,11 @@ def composite(assembly: Assembly) -> Composite:
                                 f"{name}: {s.description}", s.output))
         # the values a mode can take: as the member declares them; the flags the builder
         # adds (terminate_when) are 0 or 1
-        values = {mode.name: mode.values for mode in comp.modes}
+        declared = {mode.name: mode for mode in comp.modes}
         for v in model.members[name].modes:
+            mode = declared.get(v.name)
             modes.append(Mode(f"{name}.{v.name}", int(v.start), f"{name}: {v.description}",
-                              values.get(v.name, (0, 1))))
+                              mode.values if mode else (0, 1), mode.also if mode else ()))
         for c in comp.constraints:
             names = [p.name for p in comp.parameters]
             constraints.append(Constraint(

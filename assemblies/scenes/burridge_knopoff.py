@@ -34,7 +34,7 @@ from components import ConstantSpeed, FaultBlock, Spring
 from ..assembly import Assembly
 from ..engine.fault import FaultError, FaultRun, carlson_langer, run_fault, thresholds
 from ..result import Result
-from .scene import DRIFT, Figure, Scene, SceneParameter, solver_accuracy
+from .scene import DRIFT, Figure, Scene, SceneParameter, coupling_accuracy, solver_accuracy
 
 #: the scene's chain: C&L units (m = kp = F0 = 1), short coupling and a fast plate so a
 #: run of a few minutes' worth of events takes seconds as FMUs
@@ -193,7 +193,7 @@ def _figures(result: Result, asm: Assembly) -> list[Figure]:
     measured_first = min((s[1] for s in (solver if own else fmu)), default=math.nan)
     who = "fault solver" if own else "FMUs"
     figures = [Figure("t_first", f"{who}: first break-away [s] (closed form (F_i - B_i) / "
-                      "(kp V))", measured_first, first, _coupling_accuracy(result, first),
+                      "(kp V))", measured_first, first, coupling_accuracy(result, first),
                       source='closed form (stuck chain under a uniformly moving plate, '
                              'derived here)')]
     if n <= SCIPY_N:
@@ -211,7 +211,7 @@ def _figures(result: Result, asm: Assembly) -> list[Figure]:
             figures.append(Figure(
                 "slides", f"FMUs: largest slide start/end error {over} (vs scipy's "
                 "event-driven integration at tol/100)",
-                _slide_error(fmu, ref, gains), 0.0, _coupling_accuracy(result, span),
+                _slide_error(fmu, ref, gains), 0.0, coupling_accuracy(result, span),
                 source='independent integration (scipy event-driven, fault_references)'))
         figures.append(Figure(
             "solver", f"fault solver: largest slide start/end error {over} (vs scipy)",
@@ -238,17 +238,6 @@ def _figures(result: Result, asm: Assembly) -> list[Figure]:
 #: the b figure (mode fault): a chain long enough for localised events of ell blocks to
 #: be many per event, and enough of them in the fit range for a 99% half-width below ~0.3
 B_MIN_N, B_MIN_EVENTS = 100, 1000
-
-
-def _coupling_accuracy(result: Result, scale: float) -> float:
-    """solver_accuracy, or, co-simulated, what the coupling allows: adaptive, 100 x its
-    own tolerance; on fixed steps an input is one step late at worst."""
-    s = result.settings
-    if s.get("scheme") not in ("jacobi", "gauss-seidel"):
-        return solver_accuracy(result, scale)
-    if s.get("adaptive"):
-        return 100 * max(s["tolerance"], s["tol"]) * max(1.0, abs(scale))
-    return solver_accuracy(result, scale) + s["step"]
 
 
 def _lap(x, i):

@@ -9,13 +9,17 @@
   combination of the clutch modes, so the scene runs monolithic (the composite FMU).
   Mode me: the fmpy-driven master (``engine="fmpy"``) solves the loop across the
   separate FMUs at every evaluation and meets every figure; the compiled engine's me
-  coupling refuses the loop. Mode cosim is refused in one line (see _COSIM_REFUSED)
-  rather than printing wrong figures.
+  coupling refuses the loop. Mode cosim (both engines) solves the loop J1 -> clutch1 ->
+  clutch2 -> clutch3 at each communication point; a clutch locked to an FMU upstream
+  follows its driver's acceleration as an input extrapolated over the step, so the lock
+  holds to the communication step's error control.
 
 Figures: every lock and break-away time of an engaged clutch and the final speeds, held
 to the event-driven reference of :mod:`.msl_rotational_references` (written from MSL's
 documented clutch law; event times to ~1e-10 s) with the solver's accuracy,
-100 x tolerance (scene.solver_accuracy).
+100 x tolerance (scene.solver_accuracy), co-simulated 100 x the larger of the FMUs' and
+the adaptive communication step's tolerances (scene.coupling_accuracy; one step added
+on fixed steps).
 """
 from __future__ import annotations
 
@@ -23,6 +27,7 @@ import math
 
 import numpy as np
 
+from components.friction import FREE
 from components.rotational.friction import Clutch
 from components.rotational.rigid import Inertia
 from components.sources.rotational import Torque
@@ -31,22 +36,11 @@ from components.sources.signals import Sine, Step
 from ..assembly import Assembly
 from ..result import Result
 from .msl_rotational_references import CoupledClutches, coupled_clutches
-from .scene import Figure, Scene, solver_accuracy
+from .scene import Figure, Scene, coupling_accuracy
 
 _CC = CoupledClutches()
 _CLUTCHES = ("clutch1", "clutch2", "clutch3")
 
-
-# Measured (tolerance 1e-6, adaptive Jacobi with the loop J1 -> clutch1 -> clutch2 ->
-# clutch3 solved at each communication point): clutch2's FMU, free (fn = 0) until 0.4 s,
-# keeps the slide direction it took at t = 0, when its input acceleration was not yet
-# known (+1, where the composite finds -1); no indicator watches a free clutch, so it
-# engages sliding the wrong way and J3 ends at -5.5 rad/s against the reference's 2.46.
-# MSL's Free mode (an event at fn = 0 that sets the direction on engagement) removes it;
-# a lock across FMUs would then hold only to the communication step.
-_COSIM_REFUSED = ("a clutch free at a communication point keeps a stale slide direction "
-                  "and engages sliding the wrong way (clutch2 at 0.4 s: J3 ends at -5.5 "
-                  "rad/s, reference 2.46) until Clutch has MSL's free mode")
 
 # where every figure's reference comes from
 SOURCE = "independent integration (event-driven scipy of MSL's documented clutch law)"
@@ -100,7 +94,8 @@ def mode_changes(result: Result, instance: str, engaged_only: bool = True,
         before, after = np.searchsorted(t, te, side="left") - 1, np.searchsorted(t, te, side="right")
         if after == len(t) or before < 0:
             continue
-        if mode[after] != mode[before] and fn[after] > 0:
+        # being pressed again (out of MSL's free mode) is neither a lock nor a break-away
+        if mode[after] != mode[before] and fn[after] > 0 and mode[before] != FREE:
             out.append((float(te), int(mode[after])))
     return out
 
@@ -119,13 +114,13 @@ def _coupled_clutches_figures(result: Result, asm: Assembly) -> list[Figure]:
             got = [t for t, q in measured[n:n + 1] if q == q_ref]  # the same change, in order
             figures.append(Figure(f"{name}_{n + 1}", f"{name} {kind} at [s]",
                                   got[0] if got else math.nan, t_ref,
-                                  solver_accuracy(result, 1.0),
+                                  coupling_accuracy(result, 1.0),
                                   source=SOURCE))
     w_end = ref.w[-1]
     for k, column in enumerate(("J1.w", "clutch1.w", "clutch2.w", "clutch3.w")):
         figures.append(Figure(f"w{k + 1}_end", f"J{k + 1}.w at {_CC.stop:g} s [rad/s]",
                               float(result[column][-1]), float(w_end[k]),
-                              solver_accuracy(result, w_end[k]),
+                              coupling_accuracy(result, w_end[k]),
                               source=SOURCE))
     return figures
 
@@ -139,7 +134,7 @@ MSL_ROTATIONAL_SCENES = {
                 "clutch3.mode", "clutch1.tau", "clutch2.tau", "clutch3.tau", "clutch1.fn",
                 "clutch2.fn", "clutch3.fn"],
         figures=_coupled_clutches_figures, plot=["J1.w", "clutch1.w", "clutch2.w", "clutch3.w"],
-        mode="monolithic", seed="MSL", refused={"cosim": _COSIM_REFUSED},
+        mode="monolithic", seed="MSL",
         reference="lock and break-away times, final speeds: event-driven scipy solution of "
                   "MSL's clutch law"),
 }

@@ -18,7 +18,7 @@ for w >= 0), interpolated linearly and extrapolated from the last two points
 from __future__ import annotations
 
 from ..component import Component
-from ..friction import UNKNOWN, coulomb_modes
+from ..friction import FREE, UNKNOWN, coulomb_modes
 from ..interfaces import (FIXED, FORCE_IN, MOTION_IN, ROTATIONAL, SIGNAL_IN, ComponentError,
                           Constraint, Mode, Option, Parameter, Port, Profile, State, signal)
 from ..lazy import lazy
@@ -221,9 +221,11 @@ class Clutch(_TableFriction):
     fixed_parameters = (_PEAK, _CGEO, _FN_MAX, _J)
     one_way = False  # OneWayClutch: a freewheel in parallel
     # decided at initialisation from w_rel, then the torques (friction.UNKNOWN: a stuck
-    # start would be set to the driver's speed); the values the modes take stay three
+    # start would be set to the driver's speed); the equations are three, FREE (MSL's
+    # free: no normal force, no friction) and UNKNOWN take those of -1
     modes = (Mode("mode", UNKNOWN, "friction mode: -1 sliding backward, 0 stuck, +1 sliding "
-                                   "forward (3 before initialisation)"),)
+                                   "forward, 2 free (3 before initialisation)",
+                  also=(FREE, UNKNOWN)),)
     # absolute states of the driven side: free or sliding, its motion does not depend on
     # the driver's acceleration (an input a co-simulation holds over a step)
     states = _BODY_STATES

@@ -16,7 +16,7 @@ from scipy.optimize import brentq
 from assemblies import Assembly, cosimulate, simulate_me, simulate_monolithic
 from components.rotational.friction import Clutch, OneWayClutch
 from components.sources.rotational import ConstantTorque, Speed
-from components.sources.signals import Constant
+from components.sources.signals import Constant, Step
 from components.sources.table import TimeTable
 from fmus import build_fmu
 
@@ -160,3 +160,29 @@ def test_the_fmu_validates_in_fmi2_and_fmi3_with_both_interfaces(version, tmp_pa
     assert validate_fmu(str(path)) == []
     md = read_model_description(str(path))
     assert md.modelExchange and md.coSimulation
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_free_clutch_at_rest_engages_sliding_the_way_its_driver_has_since_gone(mode):
+    """MSL's free clutch takes, when pressed, the direction of w_rel at that moment. Here
+    both sides start at rest, free (nothing pushes either way: the mode is 0, not a
+    direction); the driver jumps into motion at 0.1 s (its acceleration a step) and the clutch is pressed at 0.5 s, the
+    driven side then behind: it slides backward, J w' = cgeo mu fn forward, so
+    w = F/J (t - 0.5) until it meets the driver, then locks. (A free clutch at rest took
+    +1, whose indicator w_rel sat at 0 and left it downward without an event: in a
+    co-simulation, CoupledClutches' clutch3 slid the wrong way once pressed at 0.9 s.)"""
+    k, J, F, W = 2 * math.pi * 5.0, 1.0, 10.0, 2.0
+    asm = _driven_by_speed(Clutch(J=J, w=0.0, fn_max=2 * F), 0.0,
+                           Step(height=W, startTime=0.1), Step(startTime=0.5))
+    res = _run(asm, mode, 1.0, 0.01, ["owc.w", "owc.mode", "driver.w"])
+    # the driver's speed, filtered (w' = k (w_ref - w)) after w_ref steps to W at 0.1 s
+    t_lock = brentq(lambda t: F / J * (t - 0.5) - W * (1 - math.exp(-k * (t - 0.1))),
+                    0.5, 1.0, xtol=1e-14)
+    t, w = np.asarray(res["time"]), np.asarray(res["owc.w"])
+    sliding = (t > 0.5) & (t < t_lock)
+    assert sliding.sum() > 2
+    np.testing.assert_allclose(w[sliding], F / J * (t[sliding] - 0.5), atol=ACC * 10)
+    assert np.all(w[t < 0.5] == 0.0)
+    locks = [te for te, q in _events(res, "owc") if q == 0 and te > 0.5]
+    # co-simulated, the driver's motion is held over an exchange step: the lock to a step
+    assert locks and abs(locks[0] - t_lock) < (0.01 if mode == "cosim" else ACC), (locks, t_lock)
