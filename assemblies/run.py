@@ -214,6 +214,9 @@ def run_scene_full(name, stop_time=None, step=None, tolerance=None, params=None,
     shape = {k: v for k, v in (params or {}).items() if "." not in k}
     try:
         arguments = sc.arguments(shape, mode)
+        run_to, run_from = stop_time if stop_time is not None else sc.stop_time, start_time or 0.0
+        if all(isinstance(v, (int, float)) for v in (run_to, run_from)):  # else refused later
+            sc.check_budget(mode, arguments, run_to - run_from)
     except ValueError as exc:
         raise AssemblyError(str(exc)) from None
     if out is not None:  # a folder that cannot be written is found before the run

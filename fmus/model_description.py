@@ -55,18 +55,27 @@ class Structure:
     indicators: list[tuple[ModelVariable, list[int]]]
 
 
-def _dependencies(expr: ca.SX, model: FlatModel, table: list[ModelVariable]) -> list[int]:
-    """Value references of the states and inputs that `expr` structurally depends on."""
-    knowns = [r for r in table if r.kind in ("MF_STATE", "MF_INPUT")]
+def _dependencies(exprs: ca.SX, model: FlatModel, table: list[ModelVariable]) -> list[list[int]]:
+    """For each entry of `exprs`, the value references of the states and inputs it
+    structurally depends on (ascending column order, as listed before).
+
+    One sparsity pattern for the whole vector: one pattern per entry cost the whole
+    expression graph and the whole table each time, quadratic in a chain's blocks."""
+    n = exprs.numel()
+    knowns = [r.vr for r in table if r.kind in ("MF_STATE", "MF_INPUT")]
     symbols = ca.vertcat(model.x, model.u)
-    if symbols.numel() == 0:
-        return []
-    sp = ca.jacobian_sparsity(expr, symbols)
-    return [knowns[c].vr for c in sorted(set(sp.get_col()))]
+    if symbols.numel() == 0 or n == 0:
+        return [[] for _ in range(n)]
+    rows, cols = ca.jacobian_sparsity(exprs, symbols).get_triplet()
+    found: list[set[int]] = [set() for _ in range(n)]
+    for i, j in zip(rows, cols):
+        found[i].add(j)
+    return [[knowns[j] for j in sorted(cols_i)] for cols_i in found]
 
 
 def model_structure(model: FlatModel, table: list[ModelVariable]) -> Structure:
-    y = computed_outputs(model)
+    y_deps = _dependencies(computed_outputs(model), model, table)
+    xdot_deps = _dependencies(model.xdot, model, table)
     outputs = []
     for r in table:
         if r.causality != "output":
@@ -74,14 +83,13 @@ def model_structure(model: FlatModel, table: list[ModelVariable]) -> Structure:
         if r.kind == "MF_STATE":
             outputs.append((r, [r.vr]))
         elif r.kind == "MF_COMPUTED":
-            outputs.append((r, _dependencies(y[r.index], model, table)))
+            outputs.append((r, y_deps[r.index]))
         else:  # a mode changes at events only; it may depend on anything
             outputs.append((r, None))
-    derivatives = [(r, _dependencies(model.xdot[r.index], model, table))
-                   for r in table if r.kind == "MF_DERIVATIVE"]
+    derivatives = [(r, xdot_deps[r.index]) for r in table if r.kind == "MF_DERIVATIVE"]
     initial = [r for r in table
                if r.initial == "calculated" and (r.causality == "output" or r.kind == "MF_DERIVATIVE")]
-    indicators = [(r, _dependencies(y[r.index], model, table)) for r in table if r.is_indicator]
+    indicators = [(r, y_deps[r.index]) for r in table if r.is_indicator]
     return Structure(outputs, derivatives, initial, indicators)
 
 
@@ -107,7 +115,13 @@ def _initial(r: ModelVariable) -> str | None:
     return r.initial if r.causality not in ("independent", "input") else None
 
 
-def _range(model: FlatModel, r: ModelVariable) -> tuple[str | None, str | None, str]:
+def _declared_parameters(model: FlatModel) -> dict:
+    """The component's parameter declarations by name, built once per description (one
+    lookup per variable, not one dict per variable: quadratic in a chain's blocks)."""
+    return {p.name: p for p in model.component.parameters}
+
+
+def _range(declarations: dict, r: ModelVariable) -> tuple[str | None, str | None, str]:
     """min, max (finite bounds only) and description of a parameter from its declaration.
 
     FMI's min is inclusive, so a strict bound (m > 0) is declared as min="0" and the
@@ -115,7 +129,7 @@ def _range(model: FlatModel, r: ModelVariable) -> tuple[str | None, str | None, 
     (omitting min would lose it), and the FMU refuses 0 at initialisation with the
     component's own message.
     """
-    declared = {p.name: p for p in model.component.parameters}.get(r.name)
+    declared = declarations.get(r.name)
     if r.kind != "MF_PARAMETER" or declared is None:
         return None, None, r.description
     lo = repr(float(declared.min)) if math.isfinite(declared.min) else None
@@ -177,10 +191,11 @@ def _fmi3(model, identifier, token, table, structure, head) -> list[str]:
                                        providesDirectionalDerivatives="true",
                                        providesAdjointDerivatives="true") + "/>",
            *head, "  <ModelVariables>"]
+    declarations = _declared_parameters(model)
     for r in table:
         tag = "Int32" if r.is_integer else "Float64"
         variability = r.variability if r.causality != "independent" else "continuous"
-        lo, hi, description = _range(model, r)
+        lo, hi, description = _range(declarations, r)
         attrs = xml_attributes(name=r.name, valueReference=r.vr, description=description or None,
                        causality=r.causality, variability=variability, initial=_initial(r),
                        start=_start(r), unit=(r.unit or None) if not r.is_integer else None,
@@ -225,8 +240,9 @@ def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> 
                                        canInterpolateInputs="false")
            + (f">{sources}CoSimulation>" if sources else "/>"),
            *head, "  <ModelVariables>"]
+    declarations = _declared_parameters(model)
     for r in listed:
-        lo, hi, description = _range(model, r)
+        lo, hi, description = _range(declarations, r)
         out.append("    <ScalarVariable " + xml_attributes(
             name=r.name, valueReference=r.vr, description=description or None,
             causality=r.causality, variability=r.variability, initial=_initial(r)) + ">")

@@ -90,11 +90,16 @@ class _Values:
 
 
 # Below this many SX instructions (derivatives, outputs, indicators, jumps) the flattened
-# expression is kept: gcc builds it in seconds (a 16-block chain, 17,000 instructions:
-# 7 s; 32 blocks, 35,000: 24 s; then minutes), and its straight-line C runs 2-2.5x
-# faster than the maps' gathers and calls on small assemblies (two_block_belt, 1,700:
-# 1.5 against 3.2 ms at tolerance 1e-5). Every scene of the library is below it.
-FLAT_LIMIT = 20_000
+# expression is kept: gcc builds it in seconds, and its straight-line C runs 2-2.5x
+# faster than the maps' gathers and calls on small assemblies (two_block_belt, 467:
+# 1.5 against 3.2 ms at tolerance 1e-5). The count is of the join's shared graph
+# (monolithic.substitute_all: a resolved input is one node wherever it is read), but
+# gcc's time follows the C that is written, which did not shrink with it: a chain of
+# 16 blocks (3,594 instructions) builds in 7 s, 32 (7,194) took 30 s of gcc CPU and 88
+# (19,794) over 2 minutes. So the limit sits where it was in C terms (it was 20,000
+# when the same chains counted 17,266 and 35,042). Every scene of the library but
+# coupled_clutches (24,812: its loop solved per mode combination) is below it.
+FLAT_LIMIT = 4_100
 
 
 def worth_mapping(model) -> bool:

@@ -108,18 +108,16 @@ def join(assembly: Assembly) -> JoinedModel:
                 open_inputs.append((name, v.name))
                 u_syms.append(m.u[i])
                 u0.append(v.start)
-    old_v, new_v = ca.vertcat(*old), ca.vertcat(*new)
-
-    def sub(expr):
-        # twice: a resolved input carries its source member's time symbol
-        return ca.substitute(ca.substitute(ca.SX(expr), old_v, new_v), old_v, new_v)
-
     cat = lambda attr: ca.vertcat(*[getattr(m, attr) for m in members.values()])  # noqa: E731
-    signals, outputs, owners, terminate = {}, {}, [], []
+    names = [f"{name}.{v}" for name in members for v in tables[name]]
+    # twice: a resolved input carries its source member's time symbol
+    xdot, z, jump_x, jump_q, *values = substitute_all(
+        [cat("xdot"), cat("z"), cat("jump_x"), cat("jump_q"),
+         *[sym for name in members for sym in tables[name].values()]],
+        ca.vertcat(*old), ca.vertcat(*new), times=2)
+    signals, outputs, owners, terminate = dict(zip(names, values)), {}, [], []
     q_offset = 0
     for name, m in members.items():
-        for v, sym in tables[name].items():
-            signals[f"{name}.{v}"] = sub(sym)
         outputs[name] = ([v.name for v, out in zip(m.states, m.state_outputs) if out]
                          + [v.name for v in m.outputs] + [v.name for v in m.modes])
         owners += [name] * m.z.numel()
@@ -127,8 +125,7 @@ def join(assembly: Assembly) -> JoinedModel:
         q_offset += m.q.numel()
     return JoinedModel(
         t=t, x=cat("x"), q=cat("q"), u=ca.vertcat(*u_syms), p=cat("p"),
-        xdot=sub(cat("xdot")), z=sub(cat("z")), jump_x=sub(cat("jump_x")),
-        jump_q=sub(cat("jump_q")), signals=signals,
+        xdot=xdot, z=z, jump_x=jump_x, jump_q=jump_q, signals=signals,
         x0=np.concatenate([[v.start for v in m.states] for m in members.values()] + [[]]),
         q0=np.concatenate([[v.start for v in m.modes] for m in members.values()] + [[]]),
         u0=np.array(u0, dtype=float),
@@ -136,6 +133,22 @@ def join(assembly: Assembly) -> JoinedModel:
         members=members, outputs=outputs, owner_of_indicator=owners,
         open_inputs=open_inputs, terminate=terminate, couplings=tuple(couplings),
         looped=frozenset(looped))
+
+
+def substitute_all(exprs: list, old: ca.SX, new: ca.SX, times: int = 1) -> list:
+    """Each of `exprs` with the symbols `old` replaced by `new`, `times` over, in one
+    substitution of them all: one per expression costs the length of `old` each, which
+    grows with the assembly, so a pass over every member's expressions was quadratic
+    (15 s of a 250-block chain's join)."""
+    shapes = [ca.SX(e).shape for e in exprs]
+    stacked = ca.vertcat(*[ca.vec(ca.SX(e)) for e in exprs])
+    for _ in range(times):
+        stacked = ca.substitute(stacked, old, new)
+    out, k = [], 0
+    for rows, cols in shapes:
+        out.append(ca.reshape(stacked[k:k + rows * cols], rows, cols))
+        k += rows * cols
+    return out
 
 
 def _resolve_couplings(assembly, members, tables, feeds) -> tuple[dict, set]:
@@ -418,12 +431,13 @@ class Composite(Component):
             port, _, flow = var.rpartition(".")
             old.append(m.u[k])
             new.append(getattr(ports[(inst, port)], flow))
-        old_v, new_v = ca.vertcat(*old), ca.vertcat(*new)
-
-        def sub(expr):
-            return ca.substitute(ca.SX(expr), old_v, new_v)
-
-        xdot = sub(m.xdot)
+        # every expression the composite states, substituted at once (substitute_all)
+        shown = [f"{name}.{v.name}" for name, member in m.members.items()
+                 for v in member.outputs]
+        xdot, jx, jq, z, *values = substitute_all(
+            [m.xdot, m.jump_x, m.jump_q, m.z, *[m.signals[full] for full in shown]],
+            ca.vertcat(*old), ca.vertcat(*new))
+        signal = dict(zip(shown, values))
         k = 0
         for name, member in m.members.items():
             for v in member.states:
@@ -434,12 +448,11 @@ class Composite(Component):
                 port, _, across = v.name.rpartition(".")
                 full = f"{name}.{v.name}"
                 if (name, port) in ports:  # an open flange: its motion is the port's output
-                    e.residual(getattr(ports[(name, port)], across) - sub(m.signals[full]))
+                    e.residual(getattr(ports[(name, port)], across) - signal[full])
                 else:
-                    e.output(full, sub(m.signals[full]), v.unit, v.description)
+                    e.output(full, signal[full], v.unit, v.description)
         for i, owner in enumerate(m.owner_of_indicator):
-            e.indicator(sub(m.z[i]), f"{owner}: indicator")
-        jx, jq = sub(m.jump_x), sub(m.jump_q)
+            e.indicator(z[i], f"{owner}: indicator")
         k = 0
         for name, member in m.members.items():
             for v in member.states:

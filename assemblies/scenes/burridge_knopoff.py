@@ -15,7 +15,8 @@ the scene's parameters (SCENE_PARAMETERS): ``mechfmu run burridge_knopoff --para
 catalogue as the result table, held to the energy balance, to scipy's slides for n <=
 SCIPY_N and, on long chains, to Carlson & Langer's b: ``mechfmu run burridge_knopoff
 --mode fault --param n=1000 --param ell=10 --param sigma=0.01 --param nu=0.01 --param
-events=20000``; the FMU modes refuse an n beyond what they run here in under a minute.
+events=20000``; the FMU modes refuse a run beyond what they run here in about a minute
+(me and monolithic bound n^2 x the stop time: ``--param n=1000 --stop-time 45``).
 :func:`fault_study` adds a warm-up and runs the C&L model (no backward slides):
 ``python -m assemblies.scenes.burridge_knopoff --n 1000 --events 10000 --out DIR``.
 """
@@ -34,7 +35,8 @@ from components import ConstantSpeed, FaultBlock, Spring
 from ..assembly import Assembly
 from ..engine.fault import FaultError, FaultRun, carlson_langer, run_fault, thresholds
 from ..result import Result
-from .scene import DRIFT, Figure, Scene, SceneParameter, coupling_accuracy, solver_accuracy
+from .scene import (DRIFT, Figure, RunBudget, Scene, SceneParameter, coupling_accuracy,
+                    solver_accuracy)
 
 #: the scene's chain: C&L units (m = kp = F0 = 1), short coupling and a fast plate so a
 #: run of a few minutes' worth of events takes seconds as FMUs
@@ -491,21 +493,30 @@ def main(argv: list[str] | None = None) -> int:
     return 0 if all(f.passed for f in figures) else 1
 
 
+#: me's bound on n^2 x stop time: a run within it takes under a minute of CPU here
+#: (n = 1000 over the default 75 s: 101 s CPU, 14,227 events; over 45 s: 46 s, the
+#: whole `mechfmu run` with its figures)
+ME_BUDGET = RunBudget("n", 2, 4.5e7, "n = 1000 over 75 s took 101 s CPU here, 14,227 "
+                                      "events; mode fault runs long chains by events")
+#: monolithic's engine steps the joined chain as me does, at under half of me's CPU
+#: (n = 1000 over 75 s: 41-46 s), after a plan that builds the joined FMU once per n
+#: (n = 1000: 92 s CPU, cached for the next run; 500: 45 s)
+MONOLITHIC_BUDGET = RunBudget("n", 2, 1.0e8, "n = 1000 over 75 s took 41-46 s CPU here "
+                                             "after building its FMU; mode fault runs long "
+                                             "chains by events")
+MONOLITHIC_MOST = (1000, "its joined FMU is built once per n, in time linear in n: n = "
+                         "1000 took 92 s CPU to build (once), then 46 s to run; run mode "
+                         "fault")
+
 #: the scene's parameters (--param NAME=VALUE): its chain's shape and the run's length
 #: in events. The FMU masters are bounded by runs measured here (CPU on 2 loaded cores,
 #: FMUs cached; `python -m benchmarks.burridge_knopoff --fmu-modes`): me steps every
-#: block in its one integrator at every event, and events grow with n, so its CPU grows
-#: as n^2 and more (n = 250: 6 s, 500: 26 s, 600: 43 s, 750: 92 s); monolithic builds
-#: the joined model anew for each n (n = 250: 42 s, of which the engine 2.6 s)
+#: block in its one integrator at every event, and events grow with n and with the time
+#: run, so its CPU grows as n^2 x the stop time (ME_BUDGET); monolithic builds the
+#: joined model anew for each n (its plan, linear in n), then runs as me does
 SCENE_PARAMETERS = (
     SceneParameter("n", SCENE_CHAIN["n"], 1, 100_000, "1", "number of blocks", integer=True,
-                   most={"me": (600, "its one integrator steps every block at every event, "
-                                     "and events grow with n: n = 600 took 43 s CPU here, "
-                                     "n = 750 92 s; run mode fault"),
-                         "monolithic": (250, "the joined model's CasADi code and gcc build "
-                                             "grow faster than n: n = 250 took 42 s CPU "
-                                             "here (its engine 2.6 s), n = 300 66 s; run "
-                                             "mode fault"),
+                   most={"monolithic": MONOLITHIC_MOST,
                          "cosim": (100, "every block is coupled at every communication "
                                         "step: n = 100 took 34 s here; run mode fault")}),
     SceneParameter("ell", SCENE_CHAIN["ell"], 0.0, 1e3, "1",
@@ -588,7 +599,8 @@ BURRIDGE_KNOPOFF_SCENES: dict[str, Scene] = {
         seed="9.2 (its block, chained)",
         reference="slides vs scipy event-driven integration; first break-away closed form; "
                   "energy balance; mode fault: Carlson & Langer's b",
-        parameters=SCENE_PARAMETERS, solvers={"fault": _solve_fault}),
+        parameters=SCENE_PARAMETERS, solvers={"fault": _solve_fault},
+        budgets={"me": ME_BUDGET, "monolithic": MONOLITHIC_BUDGET}),
 }
 
 if __name__ == "__main__":

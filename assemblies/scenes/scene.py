@@ -131,6 +131,29 @@ class SceneParameter:
         return number
 
 
+@dataclass(frozen=True)
+class RunBudget:
+    """A mode's bound on a run whose cost grows with a parameter and with the run's length
+    alike (a chain whose events grow with n and with the time run, each costing n):
+    parameter^power x (stop - start time) at most `most`. Refused in one line that says
+    what the cost grows with, what was measured (`why`) and the longest run allowed."""
+    parameter: str
+    power: float
+    most: float
+    why: str
+
+    def check(self, scene: str, mode: str, arguments: dict, length: float) -> None:
+        value = arguments[self.parameter]
+        size = float(value) ** self.power
+        if size * length > self.most:
+            raise ValueError(
+                f"scene '{scene}': {self.parameter} = {value:g} over {length:g} s is too long "
+                f"a run for mode '{mode}' (its cost grows as {self.parameter}^{self.power:g} x "
+                f"the time run, at most {self.most:.4g}: {self.why}); at {self.parameter} = "
+                f"{value:g} run at most {self.most / size:.3g} s (--stop-time), or a smaller "
+                f"{self.parameter}")
+
+
 @dataclass
 class Scene:
     name: str
@@ -154,6 +177,9 @@ class Scene:
     #: modes whose results the figures cannot judge: mode -> why, in a clause; a run in
     #: one of them is refused in one line rather than printing numbers known to be wrong
     refused: dict = field(default_factory=dict)
+    #: mode -> RunBudget: a bound on parameter and run length together, checked with the
+    #: parameters before anything is built
+    budgets: dict = field(default_factory=dict)
 
     def check_mode(self, mode: str, assembly: str) -> None:
         """Refuse a mode of :attr:`refused` (AssemblyError, one line naming the assembly
@@ -176,6 +202,12 @@ class Scene:
         return {p.name: p.value(self.name, given.get(p.name, p.default), mode)
                 for p in self.parameters}
 
+    def check_budget(self, mode: str, arguments: dict, length: float) -> None:
+        """A run of `length` seconds with `arguments` within `mode`'s RunBudget, or one
+        line (ValueError) that says how to shorten it."""
+        if mode in self.budgets:
+            self.budgets[mode].check(self.name, mode, arguments, length)
+
     def assemble(self, arguments: dict, given: dict) -> Assembly:
         """The assembly: `build` takes the parameters a run `given` (checked, in
         `arguments`) and its own defaults for the rest, so a scene copied with another
@@ -183,4 +215,4 @@ class Scene:
         return self.build(**{name: arguments[name] for name in given})
 
 
-__all__ = ["DRIFT", "Figure", "Scene", "SceneParameter", "solver_accuracy"]
+__all__ = ["DRIFT", "Figure", "RunBudget", "Scene", "SceneParameter", "solver_accuracy"]

@@ -3,7 +3,9 @@
  */
 #include "stiffness.h"
 
+#include <limits.h>
 #include <math.h>
+#include <stdlib.h>
 
 /* Hairer's count (15 accepted steps) at a threshold of 3.0 rather than his 3.25: with
    this controller a stability-bound step sits at h |lambda| = 3.21 by the estimate
@@ -115,13 +117,80 @@ int mf_stiffness_after_explicit(mf_stiffness *s, double h, double h_lambda)
    not a bound: a norm of J, a bound, can exceed rho many times over (a state of size 90
    feeding one of size 1 weighs 90 in the weighted norm), and then calls a model stiff
    that DOPRI5 integrates in accuracy-bound steps. */
-static void apply(const double *jac, int n, const double *v, double *out)
+/* J's nonzeros by column (row index, value), in the dense order: a chain's Jacobian is
+   banded, and the rounds below apply it 2 SPECTRAL_ROUNDS times, so gathering it once
+   makes the estimate O(nonzeros) after one O(n^2) read instead of 16 O(n^2) products
+   (22 % of a 1,500-state me run went to those products). Each row still sums its terms
+   in ascending column order, the dense product's order, so rho is the same to the bit. */
+typedef struct {
+    int n;
+    const double *dense; /* where the gathering could not allocate */
+    int *start;          /* n + 1 offsets into row/value */
+    int *row;
+    double *value;
+} columns;
+
+static void gather(columns *c, const double *jac, int n)
 {
+    size_t nnz = 0, k = 0, total = (size_t)n * (size_t)n;
     int i, j;
-    for (i = 0; i < n; i++) {
-        out[i] = 0.0;
-        for (j = 0; j < n; j++) out[i] += jac[(long)j * n + i] * v[j];
+    c->n = n;
+    c->dense = jac;
+    c->start = NULL;
+    c->row = NULL;
+    c->value = NULL;
+    for (k = 0; k < total; k++) nnz += jac[k] != 0.0;
+    if (nnz > total / 2 || nnz > (size_t)INT_MAX) return; /* dense enough: no gain */
+    c->start = malloc(((size_t)n + 1) * sizeof *c->start);
+    c->row = malloc((nnz ? nnz : 1) * sizeof *c->row);
+    c->value = malloc((nnz ? nnz : 1) * sizeof *c->value);
+    if (!c->start || !c->row || !c->value) {
+        free(c->start);
+        free(c->row);
+        free(c->value);
+        c->start = NULL;
+        c->row = NULL;
+        c->value = NULL;
+        return;
     }
+    k = 0;
+    for (j = 0; j < n; j++) {
+        c->start[j] = (int)k;
+        for (i = 0; i < n; i++) {
+            double a = jac[(size_t)j * n + i];
+            if (a != 0.0) {
+                c->row[k] = i;
+                c->value[k++] = a;
+            }
+        }
+    }
+    c->start[n] = (int)k;
+    c->dense = NULL;
+}
+
+static void release(columns *c)
+{
+    free(c->start);
+    free(c->row);
+    free(c->value);
+}
+
+static void apply(const columns *c, const double *v, double *out)
+{
+    const int n = c->n;
+    int i, j, k;
+    if (c->dense) {
+        for (i = 0; i < n; i++) {
+            out[i] = 0.0;
+            for (j = 0; j < n; j++) out[i] += c->dense[(size_t)j * n + i] * v[j];
+        }
+        return;
+    }
+    /* column by column, so row i still gathers its terms in ascending j; a zero the
+       dense product would add changes nothing (v is finite, x + 0 = x but for -0) */
+    for (i = 0; i < n; i++) out[i] = 0.0;
+    for (j = 0; j < n; j++)
+        for (k = c->start[j]; k < c->start[j + 1]; k++) out[c->row[k]] += c->value[k] * v[j];
 }
 
 static double spectral_radius(const double *jac, int n)
@@ -129,22 +198,31 @@ static double spectral_radius(const double *jac, int n)
     double v[n > 0 ? n : 1], w[n > 0 ? n : 1], growth = 0.0;
     int i, k;
     double start = 0.0;
+    columns c;
     for (i = 0; i < n; i++) {
         v[i] = 1.0 + (double)i / n; /* not orthogonal to a mode */
         start += v[i] * v[i];
     }
     for (i = 0; i < n; i++) v[i] /= sqrt(start);
+    gather(&c, jac, n);
     for (k = 0; k < SPECTRAL_ROUNDS; k++) {
         double size = 0.0;
-        apply(jac, n, v, w);
-        apply(jac, n, w, v);
+        apply(&c, v, w);
+        apply(&c, w, v);
         for (i = 0; i < n; i++) size += v[i] * v[i];
         size = sqrt(size); /* |J^2 v| for the v of size 1 before */
-        if (size == 0.0) return 0.0;
-        if (!isfinite(size)) return INFINITY;
+        if (size == 0.0) {
+            growth = 0.0;
+            break;
+        }
+        if (!isfinite(size)) {
+            growth = INFINITY;
+            break;
+        }
         growth = sqrt(size);
         for (i = 0; i < n; i++) v[i] /= size;
     }
+    release(&c);
     return growth;
 }
 

@@ -155,8 +155,12 @@ def _mechfmu(*args):
     (["--param", "n=2.5"], "parameter n (number of blocks) must be an integer"),
     (["--param", "n=many"], "parameter n (number of blocks) must be an integer"),
     (["--param", "m=3"], "has no parameter 'm' (its parameters: n ("),
-    (["--mode", "me", "--param", "n=5000"], "= 5000 is too large for mode 'me' (at most"),
-    (["--mode", "monolithic", "--param", "n=1000"], "too large for mode 'monolithic'"),
+    (["--mode", "me", "--param", "n=5000"], "n = 5000 over 75 s is too long a run for mode 'me'"),
+    (["--mode", "me", "--param", "n=1000"], "at n = 1000 run at most 45 s (--stop-time)"),
+    (["--mode", "me", "--param", "n=1000", "--stop-time", "46"], "n = 1000 over 46 s is too"),
+    (["--mode", "monolithic", "--param", "n=1001"], "too large for mode 'monolithic' (at most 1000"),
+    (["--mode", "monolithic", "--param", "n=1000", "--stop-time", "101"],
+     "at n = 1000 run at most 100 s (--stop-time)"),
     (["--mode", "me", "--param", "events=10"], "too large for mode 'me' (at most 0"),
 ])
 def test_bad_scene_parameter_is_one_line_exit_2(args, says):
@@ -165,6 +169,23 @@ def test_bad_scene_parameter_is_one_line_exit_2(args, says):
     err = r.stderr.strip()
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
     assert "scene 'burridge_knopoff'" in err and says in err, err
+
+
+def test_me_bounds_n_and_run_length_together():
+    """me's cost grows as n^2 x the time run (events ~ n t, each stepping n blocks), so
+    its bound is on that product: n = 1000 runs for 45 s (monolithic, whose engine
+    costs less once its FMU is built: 100 s), n = 250 the default 75 s and
+    up to 720 s; mode fault has no
+    such bound."""
+    from assemblies.scenes import scene
+    sc = scene("burridge_knopoff")
+    sc.check_budget("me", {"n": 1000}, 45.0)
+    sc.check_budget("me", {"n": 250}, 720.0)
+    sc.check_budget("fault", {"n": 100_000}, 1e6)
+    sc.check_budget("monolithic", {"n": 1000}, 100.0)
+    for n, length in [(1000, 46.0), (250, 721.0), (2000, 12.0)]:
+        with pytest.raises(ValueError, match=r"n\^2 x the time run"):
+            sc.check_budget("me", {"n": n}, length)
 
 
 def test_mode_fault_is_refused_by_scenes_without_it():
