@@ -15,14 +15,18 @@ As in CoupledClutches (:mod:`.msl_rotational`), each clutch and the brake carry 
 inertia they drive (clutch: inertia2, one-way clutch: inertiaOut, brake: inertia1:
 see components/rotational/friction.py), and a locked clutch joins its driver's inertia
 to it: an algebraic loop through the accelerations, which the monolithic master solves
-per combination of the modes and separate FMUs cannot close exactly. Both scenes run
-monolithic (the composite FMU).
+per combination of the modes. Both scenes run monolithic (the composite FMU) by default;
+`rotational_friction` also co-simulated, where the loop is solved at each communication
+point and a lock across FMUs holds to the adaptive step's tolerance (the event and final
+figures then state scene.coupling_accuracy: 100 x 1e-5). Co-simulated, the one-way
+clutch misses its release when the pulse ends at 0.95 s (an input that jumps at a
+communication point while the clutch is locked): that mode is refused in one line.
 
 Figures: every stick/slip change of an engaged clutch or brake (and every lock and
 overrun of the one-way clutch, engaged or a bare freewheel), the final angles and
 speeds, held to the event-driven reference of :mod:`.msl_rotational_friction_references`
 (written from MSL's documented equations; event times to ~1e-10 s) with the solver's
-accuracy (100 x tolerance, scene.solver_accuracy); and the energy balance (work of the
+accuracy (100 x tolerance, scene.solver_accuracy; co-simulated, the coupling's); and the energy balance (work of the
 motor + initial kinetic energy = kinetic + elastic + dissipated) within DRIFT x tolerance
 of the energy involved.
 """
@@ -44,7 +48,7 @@ from ..assembly import Assembly
 from ..result import Result
 from .msl_rotational import mode_changes
 from .msl_rotational_friction_references import Friction, OneWayClutchExample
-from .scene import DRIFT, Figure, Scene, solver_accuracy
+from .scene import DRIFT, Figure, Scene, coupling_accuracy, solver_accuracy
 
 _FR = Friction()
 _OWC = OneWayClutchExample()
@@ -110,7 +114,7 @@ def _event_figures(result, ref_events, contacts, engaged_only, triggers=()) -> l
             got = [t for t, q in measured[n:n + 1] if q == q_ref]  # the same change, in order
             figures.append(Figure(f"{name}_{n + 1}", f"{name} {kinds[q_ref]} at [s]",
                                   got[0] if got else math.nan, t_ref,
-                                  solver_accuracy(result, 1.0), source=SOURCE))
+                                  coupling_accuracy(result, 1.0), source=SOURCE))
     return figures
 
 
@@ -120,7 +124,7 @@ def _final_figures(result, ref, columns) -> list[Figure]:
     for k, (label, column, unit) in enumerate(columns):
         figures.append(Figure(label, f"{column} at {ref.t[-1]:g} s [{unit}]",
                               float(result[column][-1]), float(end[k]),
-                              solver_accuracy(result, end[k]), source=SOURCE))
+                              coupling_accuracy(result, end[k]), source=SOURCE))
     return figures
 
 
@@ -165,6 +169,12 @@ def _one_way_clutch_figures(result: Result, asm: Assembly) -> list[Figure]:
     return figures
 
 
+# measured (compiled engine, adaptive): the clutch stays locked past the pulse's end and
+# 7 of the 13 figures fail; monolithic meets all of them
+_OWC_COSIM_REFUSED = ("co-simulated, the one-way clutch misses its release when the pulse "
+                      "ends at 0.95 s (an input that jumps at a communication point while "
+                      "the clutch is locked: 7 of 13 figures fail)")
+
 MSL_ROTATIONAL_FRICTION_SCENES = {
     "rotational_friction": Scene(
         "rotational_friction", "MSL Rotational.Examples.Friction: a driven inertia, a clutch, "
@@ -189,7 +199,7 @@ MSL_ROTATIONAL_FRICTION_SCENES = {
                 "oneWayClutch.E", "oneWayClutch.W_loss"],
         figures=_one_way_clutch_figures, plot=["inertiaIn.w", "oneWayClutch.w",
                                                "oneWayClutch.fn", "oneWayClutch.lossPower"],
-        mode="monolithic", seed="MSL",
+        mode="monolithic", seed="MSL", refused={"cosim": _OWC_COSIM_REFUSED},
         reference="lock and overrun times, final angles and speeds: event-driven scipy "
                   "solution of MSL's one-way clutch law; energy balance"),
 }

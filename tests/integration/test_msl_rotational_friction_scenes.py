@@ -22,6 +22,22 @@ def test_the_scene_meets_every_stick_slip_time_and_final_state_of_the_reference(
     assert all(f.passed for f in res.figures), [f for f in res.figures if not f.passed]
 
 
+def test_friction_co_simulated_meets_every_figure_to_the_coupling_accuracy():
+    """Co-simulated (adaptive, step tolerance 1e-5) the clutch's locks across FMUs hold to
+    the communication step: every event and final figure states 100 x 1e-5 (scaled), not
+    the FMUs' 1e-8, and meets it; the mode sequence is the reference's."""
+    res = run_scene("rotational_friction", mode="cosim")
+    figures = {f.name: f for f in res.figures}
+    assert figures["w3_end"].accuracy == pytest.approx(100 * 1e-5 * abs(figures["w3_end"].reference))
+    assert figures["clutch_events"].measured == figures["clutch_events"].reference
+    assert all(f.passed for f in res.figures), [f for f in res.figures if not f.passed]
+
+
+def test_one_way_clutch_co_simulated_is_refused_in_one_line_with_its_cause():
+    with pytest.raises(AssemblyError, match=r"mode 'cosim'.*misses its release.*0\.95 s"):
+        run_scene("rotational_one_way_clutch", mode="cosim")
+
+
 @pytest.mark.parametrize("name, loop", [
     ("rotational_friction", "clutch.flange_a.tau -> inertia3.flange_b.a"),
     ("rotational_one_way_clutch", "oneWayClutch.flange_a.tau -> inertiaIn.flange_b.a")])
