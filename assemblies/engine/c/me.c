@@ -883,7 +883,7 @@ static int instantiate(me_master *M)
         if (M->fmus[i] == NULL) return -1;
         M->evaluate_at[i] = fmu_can_evaluate_at(M->fmus[i]);
     }
-    M->thin = M->n == 1 && s->n_couplings == 0 && fmu_can_evaluate_at(M->fmus[0]);
+    M->thin = M->n == 1 && s->n_couplings == 0 && M->evaluate_at[0];
     if (!M->thin || !fmu_evaluate_off(M->fmus[0], &M->off)) M->off.fn = NULL;
     return 0;
 }
