@@ -46,7 +46,7 @@ from .masters.loops import coupling_order
 
 FMU_C_DIR = Path(__file__).parent / "engine" / "fmu"
 # the engine's files the FMU links: its two masters and what they stand on
-ENGINE_FILES = ("cosim", "me", "jacobian", "fmu", "instances", "output")
+ENGINE_FILES = ("cosim", "me", "jacobian", "loop", "fmu", "instances", "output")
 # the members' variable types the interface passes on (the engine reads Float64/Int32)
 _TYPES = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Integer"}
 
@@ -125,8 +125,11 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = DEFAULT_F
         plan = coupling_plan(assembly, fmus)
         if mode == "me":  # the integrator evaluates the couplings by dependency level
             # (the co-simulation's groups and sweep travel along unused)
+            ordered = coupling_order(couplings, fmus, assembly.name,
+                                     "an assembly FMU in mode me cannot solve it yet (the "
+                                     "engine's mode me and mode monolithic do)")
             plan.pairs = [(plan.variable(*c.source), plan.variable(*c.target), c.gain)
-                          for c in coupling_order(couplings, fmus)]
+                          for c in ordered]
             plan.held = [0] * len(plan.pairs)
             plan.derivative = [-1] * len(plan.pairs)
             # an input set from outside moves indicators while the states stand still,

@@ -34,6 +34,9 @@ def handmade_fmu(name: str) -> Path:
         raise ValueError(f"{xml_path}: no fmiVersion")
     fmi_version = int(version.group(1))
     shared = (HANDMADE / "fmi2_defaults.h").read_bytes()  # included by the FMI 2 ones
+    # another handmade FMU's model.c included whole (one model, two descriptions)
+    for other in re.findall(r'#include "\.\./(\w+)/model\.c"', source.read_text()):
+        shared += b"\0" + (HANDMADE / other / "model.c").read_bytes()
     digest = hashlib.sha256(source.read_bytes() + b"\0" + xml.encode() + b"\0"
                             + shared).hexdigest()[:16]
     target = cache_dir() / "handmade" / f"{name}-{digest}.fmu"

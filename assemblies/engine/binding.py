@@ -69,7 +69,8 @@ class Stats(C.Structure):  # eng_stats
                 ("exact_jacobian", C.c_int), ("message", C.c_char * 1024),
                 ("jacobian_note", C.c_char * 512),
                 ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
-                ("jacobian_band", C.c_long)]
+                ("jacobian_band", C.c_long), ("loop_iterations", C.c_long),
+                ("loop_matrices", C.c_long)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec
@@ -84,7 +85,9 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("rest_group", _P(C.c_int)), ("asleep_since", _P(C.c_double)),
                 ("continuous", _P(C.c_int)), ("column_state", _P(C.c_int)),
                 ("row_coupling", _P(C.c_int)), ("jacobian", C.c_int),
-                ("indicator_start", _P(C.c_int)), ("indicator_coupling", _P(C.c_int))]
+                ("indicator_start", _P(C.c_int)), ("indicator_coupling", _P(C.c_int)),
+                ("n_loops", C.c_int), ("loop_first", _P(C.c_int)), ("loop_count", _P(C.c_int)),
+                ("loop_name", _P(C.c_char_p))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

@@ -30,7 +30,7 @@ from ..experiment import check_experiment, output_times
 from ..foreign import check_mode
 from ..inputs import with_inputs
 from ..limits import check_output_values
-from ..masters.loops import coupling_order
+from ..masters.loops import loop_order
 from ..result import Result, Table
 from . import binding as B
 from .build import library
@@ -124,6 +124,7 @@ class _Plan:
             C.c_int, [int(needed) for needed in continuous])
         self.rows = None if rows is None else keep.array(C.c_int, [int(needed) for needed in rows])
         self.indicator_start = self.indicator_coupling = None  # set_indicator_couplings
+        self.loops = []  # set_loops
         self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
                          in zip(couplings, continuous or []) if not needed]
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
@@ -187,6 +188,13 @@ class _Plan:
         if any(g >= 0 for g in groups):
             self.rest_group = self.keep.array(C.c_int, groups)
 
+    def set_loops(self, loops: list[tuple[int, int, str]]) -> None:
+        """eng_me_spec's algebraic loops (loops.loop_order): (first coupling, count, name)."""
+        self.loops = loops
+        self.loop_first = self.keep.array(C.c_int, [first for first, _, _ in loops])
+        self.loop_count = self.keep.array(C.c_int, [count for _, count, _ in loops])
+        self.loop_name = self.keep.array(C.c_char_p, [name.encode() for _, _, name in loops])
+
     def set_indicator_couplings(self, names: list[str], by_instance: dict) -> None:
         """eng_me_spec.indicator_start/_coupling from liveness.indicator_couplings."""
         starts, flat = [0], []
@@ -212,6 +220,9 @@ class _Plan:
                 continuous=self.continuous, column_state=self.column_state,
                 row_coupling=self.rows, indicator_start=self.indicator_start,
                 indicator_coupling=self.indicator_coupling)
+            if self.loops:
+                spec.n_loops, spec.loop_first, spec.loop_count, spec.loop_name = (
+                    len(self.loops), self.loop_first, self.loop_count, self.loop_name)
         spec.n_times, spec.times, spec.out, spec.asleep_since = (len(times), pointers[0],
                                                                  pointers[1], pointers[2])
         spec.stop_time, spec.tolerance, spec.method = stop_time, tolerance, METHODS[method]
@@ -252,6 +263,8 @@ class _Plan:
             "jacobian_groups": stats.jacobian_groups,
             "jacobian_evaluations": stats.jacobian_evaluations,
             "jacobian_band": stats.jacobian_band,
+            "algebraic_loops": [name for _, _, name in self.loops],
+            "loop_iterations": stats.loop_iterations, "loop_matrices": stats.loop_matrices,
             "jacobian": "directional derivatives" if stats.exact_jacobian
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,
@@ -448,9 +461,11 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                   for i, n in enumerate(names) if fmus[n].n_event_indicators]
         # every value set before initialisation (a foreign FMU's Strings too)
         keys = [(n, fmus[n], [*c.fmu_starts()]) for n, c in assembly.components.items()]
-        ordered = coupling_order(couplings, fmus, assembly.name)
+        # an algebraic loop's couplings together, solved by Newton at each evaluation
+        ordered, loops = loop_order(couplings, fmus)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))
+        plan.set_loops(loops)
         if sum(1 for f in fmus.values() if f.n_event_indicators) >= LOCAL_EVENTS_FROM:
             plan.set_indicator_couplings(names, indicator_couplings(fmus, ordered))
         plan.capped = step_limit_needed(assembly)

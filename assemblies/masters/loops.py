@@ -151,19 +151,12 @@ def solve_loop(group, couplings, get_input, set_input, get_output, partial, *,
                     f"(residual {float(np.max(np.abs(r))):.3g}): {describe(group, couplings)}")
 
 
-__all__ = ["LoopError", "coupling_groups", "describe", "is_loop", "solve_loop"]
+__all__ = ["LoopError", "coupling_groups", "coupling_order", "describe", "is_loop", "loop_order",
+           "solve_loop"]
 
 
-def coupling_order(couplings, instances, assembly: str = "") -> list:
-    """The couplings sorted so that each is evaluated after every coupling its source needs.
-
-    Coupling c2 needs c1 when c1 sets an input of c2's source instance that c2's source
-    output depends on (direct feedthrough). A cycle is an algebraic loop. The order is by
-    dependency level (outputs that need no coupled input first), and within a level by
-    source instance: a master can then read a whole level before setting any of it, and
-    each FMU computes its outputs once per level rather than once per read. `assembly`
-    (its name) heads the loop's error, as every refusal of a mode names what it refuses.
-    """
+def _needs(couplings, instances) -> dict:
+    """Per coupling, the couplings that set an input its source output depends on."""
     # the couplings into each instance, indexed once: a pass over every coupling per
     # coupling was quadratic (7 s of a 500-block chain's me run)
     into = {}
@@ -175,31 +168,51 @@ def coupling_order(couplings, instances, assembly: str = "") -> list:
         reads = source.depends.get(c2.source[1])
         reads = set(source.inputs) if reads is None else reads
         needs[i] = [j for j in into.get(c2.source[0], ()) if couplings[j].target[1] in reads]
-    level, active = {}, []
+    return needs
 
-    def visit(i):
-        if i in level:
-            return
-        if i in active:
-            loop = active[active.index(i):] + [i]
-            path = " -> ".join(f"{'.'.join(couplings[j].source)}" for j in loop)
-            where = f"assembly '{assembly}': " if assembly else ""
-            raise AssemblyError(f"{where}algebraic loop between direct-feedthrough outputs: "
-                                f"{path}; "
-                                "the compiled engine's me coupling cannot solve loops yet "
-                                "(mode monolithic solves linear ones, and so does engine "
-                                "'fmpy' in mode me)")
-        active.append(i)
-        for j in needs[i]:
-            visit(j)
-        active.pop()
-        level[i] = 1 + max((level[j] for j in needs[i]), default=-1)
 
-    for i in range(len(couplings)):
-        visit(i)
+def loop_order(couplings, instances) -> tuple[list, list[tuple[int, int, str]]]:
+    """The couplings sorted so that each is evaluated after every coupling its source
+    needs, with each algebraic loop's couplings together; and the loops as (first
+    index in that order, count, description naming the instances and couplings).
+
+    Coupling c2 needs c1 when c1 sets an input of c2's source instance that c2's source
+    output depends on (direct feedthrough); a strongly connected group of them is a loop
+    (or one coupling that feeds its own source). The order is by dependency level of
+    the groups (outputs that need no coupled input first), and within a level by source
+    instance: a master can then read a whole level before setting any of it, and each
+    FMU computes its outputs once per level rather than once per read.
+    """
+    needs = _needs(couplings, instances)
+    groups = strongly_connected(range(len(couplings)), needs.__getitem__)  # needed first
+    group_of = {i: g for g, members in enumerate(groups) for i in members}
+    level = []
+    for g, members in enumerate(groups):  # each after every group it needs
+        level.append(1 + max((level[group_of[j]] for i in members for j in needs[i]
+                              if group_of[j] != g), default=-1))
     first_seen = {}
     for c in couplings:
         first_seen.setdefault(c.source[0], len(first_seen))
-    order = sorted(range(len(couplings)),
-                   key=lambda i: (level[i], first_seen[couplings[i].source[0]], i))
-    return [couplings[i] for i in order]
+    order, loops = [], []
+    for g in sorted(range(len(groups)), key=lambda g: (
+            level[g], first_seen[couplings[min(groups[g])].source[0]], min(groups[g]))):
+        members = sorted(groups[g])
+        if len(members) > 1 or members[0] in needs[members[0]]:
+            instances_in = sorted({c.source[0] for c in (couplings[i] for i in members)}
+                                  | {c.target[0] for c in (couplings[i] for i in members)})
+            loops.append((len(order), len(members), f"between FMUs {', '.join(instances_in)}: "
+                          f"{describe(members, couplings)}"))
+        order += members
+    return [couplings[i] for i in order], loops
+
+
+def coupling_order(couplings, instances, assembly: str = "", solves: str = "") -> list:
+    """The couplings in :func:`loop_order`'s order, for a master that cannot solve an
+    algebraic loop: one is refused in one line naming it, `assembly` (its name) and
+    what refuses it (`solves`: who does solve it)."""
+    ordered, loops = loop_order(couplings, instances)
+    if loops:
+        where = f"assembly '{assembly}': " if assembly else ""
+        raise AssemblyError(f"{where}algebraic loop {loops[0][2]}; "
+                            f"{solves or 'this master cannot solve it'}")
+    return ordered

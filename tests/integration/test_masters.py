@@ -106,19 +106,28 @@ def test_moving_table_decay_rate_is_the_seeds():
     assert all(f.passed for f in res.figures), res.figures
 
 
-def test_an_algebraic_loop_is_named():
+def test_the_engines_me_solves_the_loop_of_a_block_riding_on_a_beam_tip():
     # a block riding on a beam tip: the tip's acceleration depends on the force on it,
-    # which depends (through the block's inertia) on that acceleration. The monolithic
-    # master solves such a linear loop (tests/integration/test_rotational_friction.py),
-    # and so does the fmpy me master (test_msl_rotational_scenes.py); the compiled
-    # engine's me coupling names it
+    # which depends (through the block's inertia) on that acceleration. The compiled
+    # engine's me solves the loop at every evaluation (it refused it before); the fmpy me
+    # master solves it by its own Newton and the monolithic master in the joined
+    # equations: all three agree to the solvers' accuracy while the block slides
     from assemblies.engine.me import simulate_me as c_simulate_me
+    from assemblies.engine.me import simulate_monolithic as c_simulate_monolithic
     asm = Assembly("loop")
-    asm.add("beam", AssumedModesBeam(basis="poly2"))
+    asm.add("beam", AssumedModesBeam(basis="poly2", mode1_c=0.01))
     asm.add("anchor", ConstantSpeed(v=0.0))
-    asm.add("block", SpringBlock(k=0.0))
+    asm.add("block", SpringBlock(k=0.0, v=5.0))
     asm.connect("anchor.flange", "block.flange_a")
     asm.connect("beam.tip", "block.support")
-    with pytest.raises(AssemblyError, match=r"algebraic loop between direct-feedthrough outputs: "
-                                            r".*beam.tip.a.*block.support.f"):
-        c_simulate_me(asm, 1.0, 0.1)
+    record = ["beam.w_tip", "block.x", "block.v", "beam.tip.a"]
+    engine = c_simulate_me(asm, 0.3, 0.01, tolerance=1e-9, record=record)
+    assert engine.settings["algebraic_loops"] == [
+        "between FMUs beam, block: beam.tip.a => block.support.a -> "
+        "block.support.f => beam.tip.f"]
+    reference = simulate_me(asm, 0.3, 0.01, tolerance=1e-9, record=record)
+    joined = c_simulate_monolithic(asm, 0.3, 0.01, tolerance=1e-9, record=record)
+    for name in record:
+        scale = 1.0 + np.max(np.abs(reference[name]))
+        np.testing.assert_allclose(engine[name], reference[name], rtol=0, atol=1e-7 * scale)
+        np.testing.assert_allclose(engine[name], joined[name], rtol=0, atol=1e-7 * scale)

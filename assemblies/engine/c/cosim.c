@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "instances.h"
+#include "loop.h"
 #include "output.h"
 #include "solver.h" /* MF_MIN_STEP: the shortest step time can resolve */
 
@@ -90,7 +91,7 @@ struct cosim {
     int *chain_order;         /* chained inputs: 1 + the chain's length below them */
     double defect;            /* the last step's worst chain defect over its allowance */
     int defect_order;         /* ... and the order of that chain's defect in the step */
-    double *scratch;          /* loop solver: u, r, jacobian, step */
+    eng_loop loop;            /* the loop solver, sized for the largest group */
     snapshot snap[3];         /* current step, previous step, probe */
     int terminated, terminated_instance;
     double terminated_time;
@@ -314,104 +315,63 @@ static void chain_defect(cosim *c)
 /* ---------------------------------------------------------------------------- */
 /* algebraic loops (loops.py)                                                      */
 
-static int solve_linear(double *a, double *b, int n)
-{
-    int i, j, k;
-    for (k = 0; k < n; k++) {
-        int piv = k;
-        for (i = k + 1; i < n; i++) if (fabs(a[i * n + k]) > fabs(a[piv * n + k])) piv = i;
-        if (a[piv * n + k] == 0.0) return -1;
-        if (piv != k) {
-            double s;
-            for (j = 0; j < n; j++) { s = a[k * n + j]; a[k * n + j] = a[piv * n + j]; a[piv * n + j] = s; }
-            s = b[k]; b[k] = b[piv]; b[piv] = s;
-        }
-        for (i = k + 1; i < n; i++) {
-            double f = a[i * n + k] / a[k * n + k];
-            for (j = k; j < n; j++) a[i * n + j] -= f * a[k * n + j];
-            b[i] -= f * b[k];
-        }
-    }
-    for (k = n - 1; k >= 0; k--) {
-        double s = b[k];
-        for (j = k + 1; j < n; j++) s -= a[k * n + j] * b[j];
-        b[k] = s / a[k * n + k];
-    }
-    return 0;
-}
+typedef struct {
+    cosim *c;
+    const int *cs;    /* the loop's couplings */
+    double t;
+} loop_ctx;
 
-static int loop_residual(cosim *c, const int *cs, int n, const double *u, double *r, double t)
+/* eng_loop_residual_fn: the loop's inputs set to u, r = u - G(u) */
+static int loop_residual(void *ctx, const double *u, double *r)
 {
+    const loop_ctx *L = ctx;
+    const int n = L->c->loop.n;
     int i;
-    for (i = 0; i < n; i++) if (set_input(c, cs[i], u[i], t)) return -1;
+    for (i = 0; i < n; i++) if (set_input(L->c, L->cs[i], u[i], L->t)) return -1;
     for (i = 0; i < n; i++) {
         double y;
-        if (source_value(c, cs[i], t, &y)) return -1;
+        if (source_value(L->c, L->cs[i], L->t, &y)) return -1;
         r[i] = u[i] - y;
     }
     return 0;
 }
 
-static double max_abs(const double *v, int n)
+/* eng_loop_matrix_fn: I - dG/du from the FMUs' directional derivatives */
+static int loop_matrix(void *ctx, double *a)
 {
-    double m = 0.0;
-    int i;
-    for (i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
-    return m;
+    const loop_ctx *L = ctx;
+    int bad = -1;
+    if (eng_loop_matrix_dd(L->c->fmus, L->c->cfg->couplings, L->cs, L->c->loop.n, a, &bad))
+        return fmu_fail(L->c, bad, "directional derivative", L->t);
+    return 0;
 }
 
 static int solve_loop(cosim *c, int group, double t)
 {
     const eng_cosim_spec *g = c->cfg;
     const int *cs = g->group_members + g->group_start[group];
-    int n = g->group_start[group + 1] - g->group_start[group], i, j, it;
-    double *u = c->scratch, *r = u + n, *jac = r + n, *du = jac + n * n, res = 0.0;
-
-    for (i = 0; i < n; i++) u[i] = c->u[cs[i]];
-    if (loop_residual(c, cs, n, u, r, t)) return -1;
-    for (it = 0; it <= g->max_loop_iterations; it++) {
-        res = max_abs(r, n);
-        if (res <= g->loop_tolerance * (1.0 + max_abs(u, n))) {
-            c->stats->loop_iterations += it;
-            c->stats->loop_residual = fmax(c->stats->loop_residual, res);
-            return 0;
-        }
-        if (it == g->max_loop_iterations) break;
-        if (g->newton) {
-            for (i = 0; i < n; i++) {
-                int si = cs[i];
-                for (j = 0; j < n; j++) {
-                    int tj = cs[j];
-                    jac[i * n + j] = i == j ? 1.0 : 0.0;
-                    const eng_variable *y = &g->couplings[si].source, *x = &g->couplings[tj].target;
-                    /* a discrete or array coupling: no directional derivative of it */
-                    if (x->instance == y->instance && ENG_PLAIN(x) && ENG_PLAIN(y)) {
-                        double one = 1.0, d = 0.0;
-                        if (fmu_directional_derivative(c->fmus[y->instance], &y->vr, 1, &x->vr, 1,
-                                                       &one, &d) != FMU_OK)
-                            return fmu_fail(c, y->instance, "directional derivative", t);
-                        jac[i * n + j] -= g->couplings[si].gain * d;
-                    }
-                }
-                du[i] = -r[i];
-            }
-            if (solve_linear(jac, du, n)) {
-                c->stats->loop_failed_group = group;
-                c->stats->loop_failed_time = t;
-                c->stats->loop_singular = 1;
-                return fail(c, "singular");
-            }
-            for (i = 0; i < n; i++) u[i] += du[i];
-        } else {
-            for (i = 0; i < n; i++) u[i] -= r[i];
-        }
-        for (i = 0; i < n && isfinite(u[i]); i++) {}
-        if (i < n) break;
-        if (loop_residual(c, cs, n, u, r, t)) return -1;
+    const eng_loop_options options = {g->loop_tolerance, g->max_loop_iterations, g->newton,
+                                      0, 0};
+    loop_ctx ctx = {c, cs, t};
+    double res = 0.0;
+    long before = c->loop.iterations;
+    int i, rc;
+    c->loop.n = g->group_start[group + 1] - g->group_start[group];
+    for (i = 0; i < c->loop.n; i++) c->loop.u[i] = c->u[cs[i]];
+    rc = eng_loop_solve(&c->loop, loop_residual, loop_matrix, &ctx, &options, &res);
+    if (rc == ENG_LOOP_FAILED) return -1;
+    if (rc == ENG_LOOP_OK) {
+        c->stats->loop_iterations += c->loop.iterations - before;
+        c->stats->loop_residual = fmax(c->stats->loop_residual, res);
+        return 0;
     }
     c->stats->loop_failed_group = group;
     c->stats->loop_failed_time = t;
-    c->stats->loop_residual = max_abs(r, n);
+    if (rc == ENG_LOOP_SINGULAR) {
+        c->stats->loop_singular = 1;
+        return fail(c, "singular");
+    }
+    c->stats->loop_residual = res;
     return fail(c, "diverged");
 }
 
@@ -720,7 +680,7 @@ static int sample(cosim *c, double t, double *row)
 /* Everything allocated, every FMU loaded with its start values; -1: message set. */
 static int create(cosim *c, const eng_cosim_spec *g)
 {
-    int i, k, grp, n_c = g->n_couplings > 0 ? g->n_couplings : 1, width_max = 1;
+    int i, k, grp, n_c = g->n_couplings > 0 ? g->n_couplings : 1, width_max = 1, largest_loop = 1;
     int *widths = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
     if (!widths) return fail(c, "out of memory");
     for (i = 0; i < g->n_instances; i++) {
@@ -746,11 +706,14 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->coarse = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
     c->predicted = (double *)calloc((size_t)n_c, sizeof(double));
     c->chain_order = (int *)calloc((size_t)n_c, sizeof(int));
-    c->scratch = (double *)calloc((size_t)n_c * (size_t)(n_c + 3), sizeof(double));
     c->row = (double *)calloc((size_t)width_max, sizeof(double));
+    for (k = 0; k < g->n_groups; k++)
+        if (g->group_is_loop[k] && g->group_start[k + 1] - g->group_start[k] > largest_loop)
+            largest_loop = g->group_start[k + 1] - g->group_start[k];
     if (!c->run || !c->inst || !c->fmus || !c->u || !c->hist_t || !c->hist_v || !c->hist_n
         || !c->in_loop || !c->done || !c->moving || !c->asleep_since || !c->which || !c->state
-        || !c->coarse || !c->scratch || !c->row || !c->predicted || !c->chain_order)
+        || !c->coarse || !c->row || !c->predicted || !c->chain_order
+        || eng_loop_alloc(&c->loop, largest_loop))
         return fail(c, "out of memory");
     for (k = 0; k < g->n_couplings; k++) {
         int d = g->derivative[k];
@@ -1152,7 +1115,7 @@ static void destroy(cosim *c)
     free(c->coarse);
     free(c->predicted);
     free(c->chain_order);
-    free(c->scratch);
+    eng_loop_free(&c->loop);
     free(c->row);
 }
 

@@ -161,6 +161,9 @@ typedef struct {
     /* RODAS3's matrix factored as a band of this many diagonals (jacobian.h, solver_implicit.h);
        0: dense */
     long jacobian_band;
+    /* Model Exchange, algebraic loops (eng_me_spec.n_loops): Newton steps and matrices
+       evaluated over the run, all loops together */
+    long loop_iterations, loop_matrices;
 } eng_stats;
 
 typedef struct {
@@ -213,6 +216,16 @@ typedef struct {
        every indicator is evaluated on the whole assembly. */
     const int *indicator_start;
     const int *indicator_coupling;
+    /* Algebraic loops between direct-feedthrough outputs (assemblies/masters/loops.py):
+       loop k is the couplings loop_first[k] .. loop_first[k] + loop_count[k] - 1, one
+       strongly connected group of Float64 scalar couplings, contiguous in `couplings`
+       after every coupling it needs; loops do not overlap and come in increasing order.
+       They are solved by Newton's method (loop.h) at every evaluation, to 1e-3 of the
+       tolerance. loop_name[k] (may be NULL) names the loop's instances and couplings in
+       messages. The Jacobian is taken by differences while there are loops. */
+    int n_loops;
+    const int *loop_first, *loop_count;
+    const char *const *loop_name;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

@@ -25,12 +25,21 @@
 #include "solver_implicit.h"
 #include "stiffness.h"
 #include "jacobian.h"
+#include "loop.h"
 
 #define MAX_EVENT_ITERATIONS 100
 #define MAX_EVENTS 1000000L
 /* integrator steps (and time events) per call that advances time: a whole run, or one
    doStep of an assembly FMU; as many as a component FMU's doStep may take */
 #define MAX_STEPS 10000000L
+/* An algebraic loop's inputs are made consistent to this fraction of the solver's
+   tolerance (relative, as the fmpy master's LOOP_TOLERANCE): far below what the
+   integration resolves. Newton from the last solution takes one step where the loop is
+   linear in its inputs (locked clutches); a matrix of an earlier evaluation is kept
+   while it converges within LOOP_REUSE steps. */
+#define LOOP_TOLERANCE 1e-3
+#define MAX_LOOP_ITERATIONS 20
+#define LOOP_REUSE 2
 
 /* The couplings one kind of evaluation sets, in order (plan_couplings): live[p],
    p < n_live; the arrays below are by p. */
@@ -40,6 +49,7 @@ typedef struct {
     int *run_end;         /* couplings p .. run_end[p] read Float64 outputs of one source */
     int *write_order;     /* a segment's couplings by target, so one call sets a target's inputs */
     uint32_t *source_vr;  /* source value references */
+    int *loop;            /* the algebraic loop (eng_me_spec.n_loops) a segment solves, -1 */
 } coupling_plan;
 
 typedef struct {
@@ -59,6 +69,13 @@ typedef struct {
        recorded columns alone need (eng_me_spec.row_coupling): a row sets only the
        row_instance[i] and the couplings of `rows`, when rows_partial */
     coupling_plan between, rows;
+    coupling_plan all;    /* every coupling: the event iteration's propagation through loops */
+    eng_loop *loops;      /* per algebraic loop: its Newton solver and last solution */
+    int n_loops;
+    int *loop_of;         /* per coupling: its loop, -1 */
+    int *loop_dd;         /* per loop: its sources give directional derivatives */
+    int *members;         /* 0 .. n_couplings - 1: a loop's couplings for eng_loop_matrix_dd */
+    int loop_min_steps;   /* Newton steps a loop takes even when it already converges */
     /* event location per instance (eng_me_spec.indicator_start): instance i's plan and
        the instances it moves, local_instance[local_start[i] .. local_start[i + 1] - 1];
        local NULL: the indicators are located on the whole assembly */
@@ -128,6 +145,101 @@ static int flush(me_master *M, int target, int *n_pending, double t)
     return 0;
 }
 
+/* --- algebraic loops (eng_me_spec.n_loops) ----------------------------------------- */
+
+static int couple(me_master *M, const coupling_plan *P, double t);
+
+typedef struct {
+    me_master *M;
+    int loop;
+    double t;
+} loop_ctx;
+
+/* eng_loop_residual_fn: the loop's inputs set to u, r = u - G(u) */
+static int loop_residual(void *ctx, const double *u, double *r)
+{
+    const loop_ctx *L = ctx;
+    me_master *M = L->M;
+    const eng_coupling *c = M->spec->couplings + M->spec->loop_first[L->loop];
+    const int n = M->spec->loop_count[L->loop];
+    int i;
+    for (i = 0; i < n; i++)
+        if (fmu_set_float64(M->fmus[c[i].target.instance], &c[i].target.vr, 1, &u[i]))
+            return failed(M, c[i].target.instance, "setting an input of an algebraic loop", L->t);
+    for (i = 0; i < n; i++) {
+        double y;
+        if (fmu_get_float64(M->fmus[c[i].source.instance], &c[i].source.vr, 1, &y))
+            return failed(M, c[i].source.instance, "reading an output of an algebraic loop",
+                          L->t);
+        r[i] = u[i] - c[i].gain * y;
+    }
+    return 0;
+}
+
+/* eng_loop_matrix_fn: I - dG/du from the sources' directional derivatives */
+static int loop_matrix(void *ctx, double *a)
+{
+    const loop_ctx *L = ctx;
+    me_master *M = L->M;
+    int bad = -1;
+    if (eng_loop_matrix_dd(M->fmus, M->spec->couplings,
+                           M->members + M->spec->loop_first[L->loop],
+                           M->spec->loop_count[L->loop], a, &bad))
+        return failed(M, bad, "getting the directional derivatives of an algebraic loop", L->t);
+    return 0;
+}
+
+/* Loop k's inputs consistent with its outputs at the point the instances stand at,
+   Newton from the last solution; M->sent holds what it set. */
+static int solve_loop(me_master *M, int k, double t)
+{
+    const eng_me_spec *s = M->spec;
+    const eng_loop_options options = {LOOP_TOLERANCE * s->tolerance, MAX_LOOP_ITERATIONS, 1,
+                                      LOOP_REUSE, M->loop_min_steps};
+    const char *name = s->loop_name && s->loop_name[k] ? s->loop_name[k] : "(unnamed)";
+    eng_loop *L = &M->loops[k];
+    loop_ctx ctx = {M, k, t};
+    double res = 0.0;
+    int rc = eng_loop_solve(L, loop_residual, M->loop_dd[k] ? loop_matrix : NULL, &ctx, &options,
+                            &res);
+    if (rc == ENG_LOOP_FAILED) return -1;
+    if (rc == ENG_LOOP_SINGULAR)
+        return fail(M, "algebraic loop %.700s: the matrix I - dy/du is singular at t = %.10g "
+                       "(no unique consistent input)", name, t);
+    if (rc != ENG_LOOP_OK)
+        return fail(M, "algebraic loop %.700s: Newton did not converge in %d iterations at "
+                       "t = %.10g (residual %.3g)", name, MAX_LOOP_ITERATIONS, t, res);
+    memcpy(M->sent + s->loop_first[k], L->u, (size_t)L->n * sizeof(double));
+    return 0;
+}
+
+/* The loops' matrices are evaluated anew at their next solve: an event may have changed
+   which outputs feed through (a clutch that locks). */
+static void forget_loop_matrices(me_master *M)
+{
+    int k;
+    for (k = 0; k < M->n_loops; k++) M->loops[k].factored = 0;
+}
+
+/* Every coupling in order, into values[]: eng_propagate, or where there are loops, a
+   pass of the plan of every coupling with each loop solved (it stays where it
+   converges, so that an event iteration that changes nothing sees the same values). */
+static int propagate(me_master *M, double *values, double t)
+{
+    const int nc = M->spec->n_couplings;
+    int bad, rc;
+    if (M->n_loops == 0)
+        return eng_propagate(M->fmus, M->spec->couplings, nc, values, &bad)
+                   ? failed(M, bad, "evaluating the couplings", t) : 0;
+    forget_loop_matrices(M);
+    M->loop_min_steps = 0;
+    rc = couple(M, &M->all, t);
+    M->loop_min_steps = 1;
+    if (rc) return -1;
+    if (nc) memcpy(values, M->sent, (size_t)nc * sizeof(double));
+    return 0;
+}
+
 /* The couplings of plan P in continuous time, cheaply. They come in segments
    (plan_couplings):
    within one, no coupling reads an instance that another one in it sets, so all of a
@@ -145,6 +257,10 @@ static int couple(me_master *M, const coupling_plan *P, double t)
     int k, p, j, w, n = P->n_live;
     for (k = 0; k < n; k = P->segment_end[k] + 1) {
         int end = P->segment_end[k], target = -1, n_pending = 0;
+        if (P->loop[k] >= 0) { /* a segment of its own (plan_couplings) */
+            if (solve_loop(M, P->loop[k], t)) return -1;
+            continue;
+        }
         for (p = k; p <= end; p = P->run_end[p] + 1) {
             const eng_variable *source = &c[P->live[p]].source;
             int rc = !ENG_PLAIN(source)
@@ -408,6 +524,14 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
                        fmu_message(M->fmus[bad]));
         else
             drop_exact(M, -1, NULL);
+    }
+    if (M->n_loops) {
+        /* the loops solved afresh at x too: f0 came from a solve to the loop tolerance,
+           and a column of differences would carry that error over sqrt(eps) */
+        forget_loop_matrices(M);
+        M->set_valid = 0;
+        if (rhs(M, t, x, M->fd2)) return -1;
+        f0 = M->fd2;
     }
     memcpy(M->x_tmp, x, (size_t)n * sizeof(double));
     for (j = 0; j < n; j++) {
@@ -739,7 +863,7 @@ static int record_event(me_master *M, int g, double t)
    outputs. */
 static int event_iteration(me_master *M, double t, int initial)
 {
-    int i, it, bad, nc = M->spec->n_couplings;
+    int i, it, nc = M->spec->n_couplings;
     if (!initial) {
         if (set_point(M, t, M->x)) return -1;
         for (i = 0; i < M->n; i++)
@@ -748,8 +872,7 @@ static int event_iteration(me_master *M, double t, int initial)
     }
     M->set_valid = 0; /* the updates change the instances behind the cache */
     M->next_defined = 0;
-    if (eng_propagate(M->fmus, M->spec->couplings, nc, M->values, &bad))
-        return failed(M, bad, "evaluating the couplings", t);
+    if (propagate(M, M->values, t)) return -1;
     for (it = 0; it < MAX_EVENT_ITERATIONS; it++) {
         for (i = 0; i < M->n; i++) {
             fmu_event_info info;
@@ -773,8 +896,7 @@ static int event_iteration(me_master *M, double t, int initial)
                 return fail(M, "%s: discrete states do not settle at t = %.10g",
                             fmu_instance_name(M->fmus[i]), t);
         }
-        if (eng_propagate(M->fmus, M->spec->couplings, nc, M->values_new, &bad))
-            return failed(M, bad, "evaluating the couplings", t);
+        if (propagate(M, M->values_new, t)) return -1;
         if (nc == 0 || memcmp(M->values, M->values_new, (size_t)nc * sizeof(double)) == 0) break;
         memcpy(M->values, M->values_new, (size_t)nc * sizeof(double));
     }
@@ -903,7 +1025,7 @@ static int exit_initialization(me_master *M)
     const eng_me_spec *s = M->spec;
     const double t0 = M->t;
     const int nc = s->n_couplings;
-    int i, k, bad;
+    int i, k;
     /* A loop-free chain of outputs settles within as many passes as there are instances,
        but a pass that changes no coupled value is a fixed point: the passes after it
        would set the same values again. Stopping there keeps the initialization linear in
@@ -913,8 +1035,7 @@ static int exit_initialization(me_master *M)
     for (k = 0; k < M->n && nc > 0; k++) {
         double *now = k % 2 ? M->values_new : M->values;
         const double *before = k % 2 ? M->values : M->values_new;
-        if (eng_propagate(M->fmus, s->couplings, nc, now, &bad))
-            return failed(M, bad, "evaluating the couplings", t0);
+        if (propagate(M, now, t0)) return -1;
         if (k > 0 && memcmp(now, before, (size_t)nc * sizeof(double)) == 0) break;
     }
     for (i = 0; i < M->n; i++) {
@@ -945,6 +1066,11 @@ static double start_time(const eng_me_spec *s)
 
 static int initialize(me_master *M)
 {
+    if (M->spec->jacobian == ENG_JACOBIAN_EXACT && M->n_loops && M->n_x)
+        return fail(M, "jacobian='exact': the couplings form an algebraic loop (%.600s), whose "
+                       "inputs no directional derivative carries ('fd' or 'auto' take "
+                       "differences)", M->spec->loop_name && M->spec->loop_name[0]
+                                           ? M->spec->loop_name[0] : "unnamed");
     if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact && M->n_x)
         return fail(M, "jacobian='exact': an instance with states or coupled Real "
                        "variables gives no directional derivatives ('fd' or 'auto' take "
@@ -1091,13 +1217,15 @@ static int plan_allocate(coupling_plan *P, int n_couplings)
     P->run_end = calloc(n, sizeof(int));
     P->write_order = calloc(n, sizeof(int));
     P->source_vr = calloc(n, sizeof(uint32_t));
-    return P->live && P->segment_end && P->run_end && P->write_order && P->source_vr ? 0 : -1;
+    P->loop = calloc(n, sizeof(int));
+    return P->live && P->segment_end && P->run_end && P->write_order && P->source_vr && P->loop
+               ? 0 : -1;
 }
 
 static void plan_free(coupling_plan *P)
 {
     free(P->live); free(P->segment_end); free(P->run_end); free(P->write_order);
-    free(P->source_vr);
+    free(P->source_vr); free(P->loop);
 }
 
 /* Segments, runs and write order (see couple) of the couplings with needed[i] (every
@@ -1105,18 +1233,39 @@ static void plan_free(coupling_plan *P)
    those that set the inputs its source output depends on); a segment ends before a
    coupling whose source instance a coupling of the segment sets, so reading a whole
    segment before setting it reads the same values as going one by one. Python orders
-   them by dependency level, which makes segments long. */
+   them by dependency level, which makes segments long. An algebraic loop is a segment
+   of its own, solved whole (solve_loop): needed when any of its couplings is. */
 static int plan_couplings(me_master *M, coupling_plan *P, const int *needed)
 {
-    int nc = M->spec->n_couplings, n, i, j, start = 0;
-    char *targeted = calloc((size_t)M->n + 1, 1);
-    if (!targeted) return -1;
+    const eng_me_spec *s = M->spec;
+    int nc = s->n_couplings, n, i, j, q, start = 0;
+    char *targeted = calloc((size_t)M->n + 1, 1), *take = calloc((size_t)nc + 1, 1);
+    if (!targeted || !take) {
+        free(targeted);
+        free(take);
+        return -1;
+    }
+    for (i = 0; i < nc; i++) take[i] = !needed || needed[i];
+    for (q = 0; q < M->n_loops; q++) {
+        int any = 0;
+        for (i = s->loop_first[q]; i < s->loop_first[q] + s->loop_count[q]; i++) any |= take[i];
+        for (i = s->loop_first[q]; i < s->loop_first[q] + s->loop_count[q]; i++) take[i] = any;
+    }
     for (n = i = 0; i < nc; i++)
-        if (!needed || needed[i]) P->live[n++] = i;
+        if (take[i]) P->live[n++] = i;
+    free(take);
     P->n_live = n;
     for (i = 0; i <= n; i++) {
-        /* close the segment start .. i-1 */
-        if (i == n || targeted[live(M, P, i)->source.instance]) {
+        const int loop = i < n ? M->loop_of[P->live[i]] : -1;
+        const int before = i > start ? M->loop_of[P->live[i - 1]] : -1;
+        int close;
+        /* close the segment start .. i-1: before a coupling whose source it sets, and
+           around a loop */
+        if (i == n) close = 1;
+        else if (loop >= 0 && loop == before) close = 0;
+        else close = targeted[live(M, P, i)->source.instance] || loop >= 0 || before >= 0;
+        if (i < n) P->loop[i] = loop;
+        if (close) {
             int w = start;
             for (j = start; j < i; j++) P->segment_end[j] = i - 1;
             /* stable by target instance: an insertion per coupling, not a pass over every
@@ -1226,6 +1375,37 @@ static int plan_set_again(me_master *M)
     return 0;
 }
 
+/* Each loop's solver, the loop of each coupling, and whether the loop's sources give
+   directional derivatives (else its matrix is by differences of its residual). */
+static int allocate_loops(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    int i, k;
+    M->loop_min_steps = 1;
+    M->loop_of = calloc((size_t)s->n_couplings + 1, sizeof(int));
+    M->members = calloc((size_t)s->n_couplings + 1, sizeof(int));
+    M->loops = calloc((size_t)s->n_loops + 1, sizeof(eng_loop));
+    M->loop_dd = calloc((size_t)s->n_loops + 1, sizeof(int));
+    if (!M->loop_of || !M->members || !M->loops || !M->loop_dd) return -1;
+    for (i = 0; i < s->n_couplings; i++) {
+        M->loop_of[i] = -1;
+        M->members[i] = i;
+    }
+    for (k = 0; k < s->n_loops; k++) {
+        const int first = s->loop_first[k], count = s->loop_count[k];
+        M->n_loops = k + 1; /* release frees these, this one too if it fails halfway */
+        if (eng_loop_alloc(&M->loops[k], count)) return -1;
+        M->loops[k].n = count;
+        M->loop_dd[k] = 1;
+        for (i = first; i < first + count; i++) {
+            M->loop_of[i] = k;
+            M->loop_dd[k] = M->loop_dd[k] &&
+                            s->instances[s->couplings[i].source.instance].provides_directional_derivative;
+        }
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -1271,7 +1451,8 @@ static int allocate(me_master *M)
     M->pending_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
     M->pending_value = zeros(s->n_couplings);
     if (!M->sent || !M->read || !M->pending_vr || !M->pending_value) return -1;
-    if (plan_allocate(&M->between, s->n_couplings) ||
+    if (allocate_loops(M) || plan_allocate(&M->all, s->n_couplings) ||
+        plan_couplings(M, &M->all, NULL) || plan_allocate(&M->between, s->n_couplings) ||
         plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M) ||
         plan_local(M))
         return -1;
@@ -1280,7 +1461,9 @@ static int allocate(me_master *M)
         || !M->x_start || !M->asleep || !M->evaluate_at || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
-    M->exact = s->jacobian == ENG_JACOBIAN_FD ? NULL : eng_jacobian_plan(s, M->x_off);
+    /* a loop's inputs are no plain function the seeds pass through: differences */
+    M->exact = s->jacobian == ENG_JACOBIAN_FD || M->n_loops ? NULL
+                                                            : eng_jacobian_plan(s, M->x_off);
     M->stats->exact_jacobian = M->exact != NULL;
     /* both methods, whichever the run starts with: the automatic choice may take either */
     if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
@@ -1315,6 +1498,10 @@ static void release(me_master *M)
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
+    plan_free(&M->all);
+    if (M->loops)
+        for (i = 0; i < M->n_loops; i++) eng_loop_free(&M->loops[i]);
+    free(M->loops); free(M->loop_of); free(M->loop_dd); free(M->members);
     free(M->row_instance); free(M->set_again);
     if (M->local)
         for (i = 0; i < M->n; i++) plan_free(&M->local[i]);
@@ -1350,6 +1537,18 @@ static const char *spec_defect(const eng_me_spec *s)
             g->n_indicators < 0 ||
             g->first_indicator + g->n_indicators > s->instances[g->instance].n_event_indicators)
             return "an event group names an instance or indicators out of range";
+    }
+    if (s->n_loops < 0 || s->n_loops > s->n_couplings ||
+        (s->n_loops > 0 && (!s->loop_first || !s->loop_count)))
+        return "n_loops must be in 0 .. n_couplings, with loop_first and loop_count";
+    for (k = 0; k < s->n_loops; k++) {
+        int i, end = k > 0 ? s->loop_first[k - 1] + s->loop_count[k - 1] : 0;
+        if (s->loop_first[k] < end || s->loop_count[k] < 1 ||
+            s->loop_count[k] > s->n_couplings - s->loop_first[k])
+            return "loops must be in range, not overlap and come in increasing order";
+        for (i = s->loop_first[k]; i < s->loop_first[k] + s->loop_count[k]; i++)
+            if (!ENG_PLAIN(&s->couplings[i].source) || !ENG_PLAIN(&s->couplings[i].target))
+                return "an algebraic loop's couplings must be Float64 scalars";
     }
     if (s->indicator_start) {
         if (!s->indicator_coupling || s->indicator_start[0] != 0)
@@ -1411,6 +1610,10 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
         stats->jacobian_evaluations = eng_jacobian_evaluations(M.exact);
     }
     stats->jacobian_band = M.ros.banded ? M.ros.kl + M.ros.ku + 1 : 0;
+    for (i = 0; i < M.n_loops; i++) {
+        stats->loop_iterations += M.loops[i].iterations;
+        stats->loop_matrices += M.loops[i].matrices;
+    }
     release(&M);
     return M.run;
 
