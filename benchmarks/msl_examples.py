@@ -15,8 +15,9 @@ J1..J4.w against the event-driven reference of MSL's clutch law, solved on the r
 own output times (fmpy's ME rows include its event instants, where interpolating the
 1 ms reference would add an error of its own).
 
-Each mode of our engine has a row: ``me`` is refused (the row says why, in the
-refusal's words); ``cosim`` runs the separate Co-Simulation FMUs (adaptive Jacobi to the
+Each mode of our engine has a row: ``me`` runs the separate Model Exchange FMUs in one
+integrator, the loop solved by Newton at every evaluation (c/loop.c, the factors kept
+while they converge); ``cosim`` runs the separate Co-Simulation FMUs (adaptive Jacobi to the
 scene's communication tolerance, the loop solved at each communication point, a lock
 across FMUs held to that tolerance). fmpy runs the same assembly of separate FMUs in the
 reference me master (``engine="fmpy"``), which solves the loop at every evaluation, and

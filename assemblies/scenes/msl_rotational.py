@@ -7,9 +7,10 @@
   (J2, J3, J4: see components/rotational/friction.py), so a locked clutch is an
   algebraic loop through the accelerations, which the monolithic master solves per
   combination of the clutch modes, so the scene runs monolithic (the composite FMU).
-  Mode me: the fmpy-driven master (``engine="fmpy"``) solves the loop across the
-  separate FMUs at every evaluation and meets every figure; the compiled engine's me
-  coupling refuses the loop. Mode cosim (both engines) solves the loop J1 -> clutch1 ->
+  Mode me, in both engines, solves the loop across the separate FMUs at every
+  evaluation (Newton on the FMUs' directional derivatives: one step, the loop is linear
+  in its inputs for given modes; the compiled engine keeps the factors while they
+  converge, c/loop.c) and meets every figure. Mode cosim (both engines) solves the loop J1 -> clutch1 ->
   clutch2 -> clutch3 at each communication point; a clutch locked to an FMU upstream
   follows its driver's acceleration as an input extrapolated over the step, so the lock
   holds to the communication step's error control.

@@ -15,8 +15,9 @@ As in CoupledClutches (:mod:`.msl_rotational`), each clutch and the brake carry 
 inertia they drive (clutch: inertia2, one-way clutch: inertiaOut, brake: inertia1:
 see components/rotational/friction.py), and a locked clutch joins its driver's inertia
 to it: an algebraic loop through the accelerations, which the monolithic master solves
-per combination of the modes. Both scenes run monolithic (the composite FMU) by default;
-`rotational_friction` also co-simulated, where the loop is solved at each communication
+per combination of the modes, and mode me (either engine) by Newton across the separate
+FMUs at every evaluation. Both scenes run monolithic (the composite FMU) by default, and
+in mode me; `rotational_friction` also co-simulated, where the loop is solved at each communication
 point and a lock across FMUs holds to the adaptive step's tolerance (the event and final
 figures then state scene.coupling_accuracy: 100 x 1e-5). Co-simulated, the one-way
 clutch misses its release when the pulse ends at 0.95 s (an input that jumps at a

@@ -16,10 +16,10 @@ from assemblies.engine.me import simulate_me
 from handmade_fmus import handmade_fmu
 
 
-def pair(name: str, a_p: float, b_p: float, a_q: float, b_q: float) -> Assembly:
+def pair(name: str, a_p: float, b_p: float, a_q: float, b_q: float, **values) -> Assembly:
     asm = Assembly("affine_loop")
-    asm.add("p", FMU(handmade_fmu(name), a=a_p, b=b_p))
-    asm.add("q", FMU(handmade_fmu(name), a=a_q, b=b_q))
+    asm.add("p", FMU(handmade_fmu(name), a=a_p, b=b_p, **values))
+    asm.add("q", FMU(handmade_fmu(name), a=a_q, b=b_q, **values))
     asm.connect("p.y", "q.u")
     asm.connect("q.y", "p.u")
     return asm
@@ -71,6 +71,17 @@ def test_a_singular_loop_is_named_in_one_line():
     assert "\n" not in line
     assert ("algebraic loop between FMUs p, q: p.y => q.u -> q.y => p.u: the matrix "
             "I - dy/du is singular") in line
+
+
+def test_a_loop_that_does_not_converge_is_named_in_one_line():
+    """Directional derivatives that say 0 (dd_factor 0) make Newton a fixed-point
+    iteration, which diverges on a loop gain of -1.5: bounded, and named."""
+    with pytest.raises(EngineError) as caught:
+        simulate_me(pair("ml2_affine", 0.5, 1.0, -3.0, 2.0, dd_factor=0.0), 1.0, 0.1)
+    line = str(caught.value)
+    assert "\n" not in line
+    assert ("algebraic loop between FMUs p, q: p.y => q.u -> q.y => p.u: Newton did not "
+            "converge in 20 iterations at t = 0") in line
 
 
 def test_the_exact_jacobian_is_refused_through_a_loop():

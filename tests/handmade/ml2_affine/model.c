@@ -3,8 +3,10 @@
    Two of them fed from each other (u1 = y2, u2 = y1) form a linear algebraic loop with
    the exact solution y1 = (a1 b2 + b1) / (1 - a1 a2), y2 = a2 y1 + b2, and x = y t;
    with a1 a2 = 1 the loop has no unique solution (I - dy/du is singular).
-   fmi2GetDirectionalDerivative gives dy/du = a and dx'/du = a (ml2_affine_fd offers
-   none, so that the loop's matrix comes from differences). */
+   fmi2GetDirectionalDerivative gives dy/du = a and dx'/du = a, times dd_factor (1; 0
+   lies as a broken exporter would, and Newton on the wrong matrix cannot converge where
+   the loop's gain exceeds one); ml2_affine_fd offers none, so that the loop's matrix
+   comes from differences. */
 #include <stdlib.h>
 #include <string.h>
 #include "fmi2Functions.h"
@@ -13,7 +15,7 @@
 #define OWN_fmi2GetDirectionalDerivative
 #include "../fmi2_defaults.h"
 
-enum { VR_X = 0, VR_DX = 1, VR_U = 2, VR_Y = 3, VR_A = 4, VR_B = 5, N_VR = 6 };
+enum { VR_X = 0, VR_DX = 1, VR_U = 2, VR_Y = 3, VR_A = 4, VR_B = 5, VR_DD = 6, N_VR = 7 };
 
 typedef struct {
     double time, v[N_VR];
@@ -33,6 +35,7 @@ static void reset(Instance *s)
     s->cb = cb;
     s->v[VR_A] = 0.5;
     s->v[VR_B] = 1.0;
+    s->v[VR_DD] = 1.0;
     outputs(s);
 }
 
@@ -82,7 +85,7 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
         value[i] = 0.0;
         for (size_t j = 0; j < n_known; j++) {
             if (known[j] != VR_U && known[j] != VR_X) return fmi2Error;
-            if (known[j] == VR_U) value[i] += s->v[VR_A] * seed[j];
+            if (known[j] == VR_U) value[i] += s->v[VR_DD] * s->v[VR_A] * seed[j];
         }
     }
     return fmi2OK;
