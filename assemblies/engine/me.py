@@ -188,8 +188,15 @@ class _Plan:
         if any(g >= 0 for g in groups):
             self.rest_group = self.keep.array(C.c_int, groups)
 
-    def set_loops(self, loops: list[tuple[int, int, str]]) -> None:
-        """eng_me_spec's algebraic loops (loops.loop_order): (first coupling, count, name)."""
+    def set_loops(self, assembly: str, loops: list[tuple[int, int, str]]) -> None:
+        """eng_me_spec's algebraic loops (loops.loop_order): (first coupling, count, name).
+        Newton moves Float64 scalars: a loop through another type is refused, named."""
+        for first, count, name in loops:
+            for c in self.couplings[first:first + count]:
+                if not all(end.type == 0 and end.size <= 1 for end in (c.source, c.target)):
+                    raise AssemblyError(f"assembly '{assembly}': algebraic loop {name}: a "
+                                        "coupling of it is not a Float64 scalar, and the "
+                                        "engine's me solves loops of Float64 scalars only")
         self.loops = loops
         self.loop_first = self.keep.array(C.c_int, [first for first, _, _ in loops])
         self.loop_count = self.keep.array(C.c_int, [count for _, count, _ in loops])
@@ -465,7 +472,7 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         ordered, loops = loop_order(couplings, fmus)
         plan = _Plan(keys, ordered, columns, groups, continuous_couplings(fmus, ordered, recorded),
                      row_couplings(fmus, ordered, recorded))
-        plan.set_loops(loops)
+        plan.set_loops(assembly.name, loops)
         if sum(1 for f in fmus.values() if f.n_event_indicators) >= LOCAL_EVENTS_FROM:
             plan.set_indicator_couplings(names, indicator_couplings(fmus, ordered))
         plan.capped = step_limit_needed(assembly)
