@@ -42,7 +42,7 @@ from .engine.restore import inexact_restores
 from .experiment import (FixedStepFallback, check_cosim_settings, check_experiment,
                          fixed_step_fallback)
 from .foreign import FMU, check_mode
-from .masters.loops import coupling_order
+from .masters.loops import loop_order
 
 FMU_C_DIR = Path(__file__).parent / "engine" / "fmu"
 # the engine's files the FMU links: its two masters and what they stand on
@@ -125,11 +125,19 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = DEFAULT_F
         plan = coupling_plan(assembly, fmus)
         if mode == "me":  # the integrator evaluates the couplings by dependency level
             # (the co-simulation's groups and sweep travel along unused)
-            ordered = coupling_order(couplings, fmus, assembly.name,
-                                     "an assembly FMU in mode me cannot solve it yet (the "
-                                     "engine's mode me and mode monolithic do)")
+            ordered, loops = loop_order(couplings, fmus)
             plan.pairs = [(plan.variable(*c.source), plan.variable(*c.target), c.gain)
                           for c in ordered]
+            # the groups section carries the algebraic loops, each consecutive in this
+            # order, which the engine's me solves by Newton (assembly_config.c)
+            plan.groups = [list(range(first, first + count)) for first, count, _ in loops]
+            plan.loops = list(plan.groups)
+            for (first, count, name), group in zip(loops, plan.groups):
+                if any(plan.pairs[k][i][2] != 0 for k in group for i in (0, 1)):
+                    raise AssemblyError(f"export_fmu: assembly '{assembly.name}': algebraic "
+                                        f"loop {name}: a coupling of it is not a Float64 "
+                                        "scalar, and the engine's me solves loops of Float64 "
+                                        "scalars only")
             plan.held = [0] * len(plan.pairs)
             plan.derivative = [-1] * len(plan.pairs)
             # an input set from outside moves indicators while the states stand still,

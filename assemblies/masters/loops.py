@@ -151,8 +151,7 @@ def solve_loop(group, couplings, get_input, set_input, get_output, partial, *,
                     f"(residual {float(np.max(np.abs(r))):.3g}): {describe(group, couplings)}")
 
 
-__all__ = ["LoopError", "coupling_groups", "coupling_order", "describe", "is_loop", "loop_order",
-           "solve_loop"]
+__all__ = ["LoopError", "coupling_groups", "describe", "is_loop", "loop_order", "solve_loop"]
 
 
 def _needs(couplings, instances) -> dict:
@@ -205,14 +204,3 @@ def loop_order(couplings, instances) -> tuple[list, list[tuple[int, int, str]]]:
         order += members
     return [couplings[i] for i in order], loops
 
-
-def coupling_order(couplings, instances, assembly: str = "", solves: str = "") -> list:
-    """The couplings in :func:`loop_order`'s order, for a master that cannot solve an
-    algebraic loop: one is refused in one line naming it, `assembly` (its name) and
-    what refuses it (`solves`: who does solve it)."""
-    ordered, loops = loop_order(couplings, instances)
-    if loops:
-        where = f"assembly '{assembly}': " if assembly else ""
-        raise AssemblyError(f"{where}algebraic loop {loops[0][2]}; "
-                            f"{solves or 'this master cannot solve it'}")
-    return ordered

@@ -12,7 +12,7 @@ import pytest
 from assemblies.engine import liveness
 from assemblies.engine.me import simulate_me
 from assemblies.engine.prepare import prepared, record_columns
-from assemblies.masters.loops import coupling_order
+from assemblies.masters.loops import loop_order
 from assemblies.pruning import prune_unrecorded
 from assemblies.scenes import scene
 from components import SpringBlock
@@ -92,7 +92,7 @@ def test_an_output_row_sets_only_what_the_recorded_columns_read(monkeypatch):
     asm, record = _belt(["block1.s", "block1.v", "block2.s"])
     couplings = asm.couplings()  # resolves the causality profiles, which shape the FMUs
     fmus = {name: prepared(c) for name, c in asm.components.items()}
-    ordered = coupling_order(couplings, fmus)
+    ordered, _ = loop_order(couplings, fmus)
     rows = liveness.row_couplings(fmus, ordered, record_columns(fmus, record))
     assert sorted(".".join(c.target) for c, needed in zip(ordered, rows) if needed) == \
         ["block1.support.s", "block2.support.s"]

@@ -88,3 +88,25 @@ def test_the_exact_jacobian_is_refused_through_a_loop():
     with pytest.raises(EngineError, match=r"jacobian='exact': the couplings form an algebraic "
                                           r"loop \(between FMUs p, q"):
         simulate_me(pair("ml2_affine", 0.5, 1.0, -3.0, 2.0), 1.0, 0.1, jacobian="exact")
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_an_assembly_fmu_in_mode_me_solves_the_loop(tmp_path, fmi):
+    """Exported in mode 'me', the loop travels in the FMU's configuration (its groups)
+    and the engine inside it solves it: fmpy stepping the FMU (Co-Simulation: the
+    engine's own integrator in doStep) and integrating it (Model Exchange: fmpy's) both
+    give the closed form, the outputs to round-off, the states to the tolerance."""
+    from fmpy import simulate_fmu
+
+    from assemblies import export_fmu
+    a_p, b_p, a_q, b_q = 0.5, 1.0, -3.0, 2.0
+    y_p = (a_p * b_q + b_p) / (1.0 - a_p * a_q)
+    path = export_fmu(pair("ml2_affine", a_p, b_p, a_q, b_q), tmp_path / f"loop{fmi}.fmu",
+                      fmi=fmi, mode="me", outputs=["p.y", "p.x"], stop_time=1.0, step=0.1,
+                      tolerance=1e-10)
+    assert validate_fmu(str(path)) == []
+    for fmi_type in ("CoSimulation", "ModelExchange"):
+        res = simulate_fmu(str(path), fmi_type=fmi_type, stop_time=1.0, output_interval=0.1,
+                           relative_tolerance=1e-10, record_events=False)
+        np.testing.assert_allclose(res["p.y"], y_p, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(res["p.x"], y_p * res["time"], rtol=0, atol=1e-8)

@@ -196,13 +196,23 @@ static int solve_loop(me_master *M, int k, double t)
     const eng_me_spec *s = M->spec;
     const eng_loop_options options = {LOOP_TOLERANCE * s->tolerance, MAX_LOOP_ITERATIONS, 1,
                                       LOOP_REUSE, M->loop_min_steps};
-    const char *name = s->loop_name && s->loop_name[k] ? s->loop_name[k] : "(unnamed)";
+    const char *name = s->loop_name ? s->loop_name[k] : NULL;
+    char between[512];
     eng_loop *L = &M->loops[k];
     loop_ctx ctx = {M, k, t};
     double res = 0.0;
     int rc = eng_loop_solve(L, loop_residual, M->loop_dd[k] ? loop_matrix : NULL, &ctx, &options,
                             &res);
     if (rc == ENG_LOOP_FAILED) return -1;
+    if (rc != ENG_LOOP_OK && !name) { /* no name given (an assembly FMU's): its instances */
+        size_t used = (size_t)snprintf(between, sizeof between, "through");
+        int j;
+        for (j = s->loop_first[k]; j < s->loop_first[k] + s->loop_count[k]; j++)
+            if (used < sizeof between)
+                used += (size_t)snprintf(between + used, sizeof between - used, " %.100s",
+                                         fmu_instance_name(M->fmus[s->couplings[j].source.instance]));
+        name = between;
+    }
     if (rc == ENG_LOOP_SINGULAR)
         return fail(M, "algebraic loop %.700s: the matrix I - dy/du is singular at t = %.10g "
                        "(no unique consistent input)", name, t);

@@ -375,6 +375,27 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     cfg->me_spec.couplings = g->couplings;
     cfg->me_spec.stop_time = g->stop_time;
     cfg->me_spec.tolerance = g->tolerance;
+    if (cfg->mode == ASM_ME && !r.failed) {
+        /* the groups of a Model Exchange assembly are its algebraic loops, each a run of
+           consecutive couplings in the order written (eng_me_spec.n_loops) */
+        int n_loops = 0;
+        cfg->loop_first = (int *)table(&r, (size_t)g->n_groups, sizeof(int));
+        cfg->loop_count = (int *)table(&r, (size_t)g->n_groups, sizeof(int));
+        for (k = 0; k < g->n_groups && !r.failed; k++) {
+            const int start = cfg->group_start[k], size = cfg->group_start[k + 1] - start;
+            int m;
+            if (!cfg->group_is_loop[k]) continue;
+            for (m = 0; m < size; m++)
+                if (cfg->group_members[start + m] != cfg->group_members[start] + m)
+                    complain(&r, "group %d: a Model Exchange loop's couplings must be "
+                                 "consecutive", k);
+            cfg->loop_first[n_loops] = cfg->group_members[start];
+            cfg->loop_count[n_loops++] = size;
+        }
+        cfg->me_spec.n_loops = n_loops;
+        cfg->me_spec.loop_first = cfg->loop_first;
+        cfg->me_spec.loop_count = cfg->loop_count;
+    }
 
     if (r.failed) {
         asm_config_free(cfg);
@@ -405,6 +426,8 @@ void asm_config_free(asm_config *cfg)
     free(cfg->group_is_loop);
     free(cfg->sweep_order);
     free(cfg->states);
+    free(cfg->loop_first);
+    free(cfg->loop_count);
     free(cfg->ports);
     free(cfg->text);
     memset(cfg, 0, sizeof *cfg);

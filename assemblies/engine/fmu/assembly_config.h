@@ -49,6 +49,7 @@ typedef struct {
     eng_coupling *couplings;
     int *held, *derivative, *group_start, *group_members, *group_is_loop, *sweep_order;
     eng_variable *states;
+    int *loop_first, *loop_count; /* ASM_ME: the loop groups as me_spec's loops */
 } asm_config;
 
 /* 0, or -1 with the reason in err (the config is then freed). */
