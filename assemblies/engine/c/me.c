@@ -83,6 +83,16 @@ typedef struct {
     int thin;             /* one instance, no couplings, mfEvaluateAt: the thin path (thin_point) */
     fmu_off off;          /* on the thin path, mfEvaluateOff where the FMU has it (off.fn) */
     int *evaluate_at;     /* per instance: its FMU has mfEvaluateAt (move_one) */
+    /* instances evaluated from time between events (eng_me_spec.time_function; read_timed):
+       timed[i] while they are, timed_t[i] the event their constants come from, timed_dx
+       their derivatives then (by state), timed_y and timed_rate each coupling's source
+       value then and its rate (by coupling, for couplings out of a timed instance) */
+    int *timed, any_timed;
+    double *timed_t, *timed_dx, *timed_y, *timed_rate;
+    /* per instance: not moved between events, as timed or time-free (eng_me_spec.time_free),
+       but at each event and where the run stops (move_unmoved) */
+    int *unmoved, any_unmoved;
+    int *needed;          /* by coupling: in the plan between events (plan_between) */
     long k_out;           /* next output row */
     int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
     int next_defined;     /* a time event is due at t_next */
@@ -128,6 +138,20 @@ static int flush(me_master *M, int target, int *n_pending, double t)
     return 0;
 }
 
+/* The source values of the run of couplings from p (plan P) out of a timed instance at
+   t: each is its value at the last event plus its rate times the time since, as exact
+   as the source's own evaluation (its outputs are affine in states that move at a
+   constant rate), and no call. */
+static void timed_values(me_master *M, const coupling_plan *P, int p, double t)
+{
+    const int end = P->run_end[p];
+    const double dt = t - M->timed_t[M->spec->couplings[P->live[p]].source.instance];
+    for (; p <= end; p++) {
+        const int j = P->live[p];
+        M->read[p] = M->timed_y[j] + M->timed_rate[j] * dt;
+    }
+}
+
 /* The couplings of plan P in continuous time, cheaply. They come in segments
    (plan_couplings):
    within one, no coupling reads an instance that another one in it sets, so all of a
@@ -147,7 +171,12 @@ static int couple(me_master *M, const coupling_plan *P, double t)
         int end = P->segment_end[k], target = -1, n_pending = 0;
         for (p = k; p <= end; p = P->run_end[p] + 1) {
             const eng_variable *source = &c[P->live[p]].source;
-            int rc = !ENG_PLAIN(source)
+            int rc;
+            if (M->timed[source->instance]) {
+                timed_values(M, P, p, t);
+                continue;
+            }
+            rc = !ENG_PLAIN(source)
                          ? eng_get_value(M->fmus[source->instance], source, &M->read[p])
                          : fmu_get_float64(M->fmus[source->instance], P->source_vr + p,
                                            (size_t)(P->run_end[p] - p + 1), M->read + p);
@@ -205,6 +234,7 @@ static int move_instances(me_master *M, double t, const double *x, const int *on
     int i;
     for (i = 0; i < M->n; i++) {
         if (M->asleep[i]) continue; /* it stands where it fell asleep, for good */
+        if (M->unmoved[i]) continue; /* moved at events only (move_unmoved) */
         if (only && !only[i]) continue;
         if (move_one(M, i, t, x + M->x_off[i])) return -1;
     }
@@ -268,6 +298,10 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
             for (j = M->x_off[i]; j < M->x_off[i + 1]; j++) dx[j] = 0.0;
             continue;
         }
+        if (M->timed[i]) {
+            for (j = M->x_off[i]; j < M->x_off[i + 1]; j++) dx[j] = M->timed_dx[j];
+            continue;
+        }
         if (M->x_off[i + 1] > M->x_off[i] &&
             fmu_get_derivatives(M->fmus[i], dx + M->x_off[i],
                                 (size_t)(M->x_off[i + 1] - M->x_off[i])))
@@ -294,6 +328,19 @@ static void drop_exact(me_master *M, int instance, const char *format, ...)
         vsnprintf(note + k, size - (size_t)k, format, args);
         va_end(args);
     }
+}
+
+/* The directional derivatives see a timed instance's outputs move with its states; the
+   right-hand side takes them from time (read_timed), so its columns are zero there and
+   the time dependence is RODAS3's df/dt: the matrix of the function integrated. */
+static void drop_timed_columns(const me_master *M, double *jac)
+{
+    int i;
+    if (!M->any_timed) return;
+    for (i = 0; i < M->n; i++)
+        if (M->timed[i] && M->x_off[i + 1] > M->x_off[i])
+            memset(jac + (size_t)M->x_off[i] * (size_t)M->n_x, 0,
+                   (size_t)(M->x_off[i + 1] - M->x_off[i]) * (size_t)M->n_x * sizeof(double));
 }
 
 /* Column j of d f / d x at (t, x) by central differences with the step delta against
@@ -354,6 +401,7 @@ static int probe_jacobian(me_master *M, double t)
         return 0;
     }
     if (rc > 0) return 0; /* a loop: the solver's first Jacobian finds it and falls back */
+    drop_timed_columns(M, exact);
     for (j = 0; j < n; j++) {
         const double *column = exact + (size_t)j * (size_t)n;
         const double delta = cbrt(DBL_EPSILON) * fmax(fabs(M->x[j]), M->nominals[j]);
@@ -396,7 +444,10 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
         int bad = -1, rc;
         if (set_point(M, t, x)) return -1;
         rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, jac, &bad);
-        if (rc == 0) return 0;
+        if (rc == 0) {
+            drop_timed_columns(M, jac);
+            return 0;
+        }
         if (M->spec->jacobian == ENG_JACOBIAN_EXACT)
             return rc < 0 ? failed(M, bad, "getting the directional derivatives "
                                            "(jacobian='exact')", t)
@@ -490,7 +541,7 @@ static int local_indicators(void *ctx, double t, double *z)
     M->set_valid = 0;
     for (a = M->local_start[i]; a < M->local_start[i + 1]; a++) {
         const int k = M->local_instance[a];
-        if (M->asleep[k]) continue;
+        if (M->asleep[k] || M->unmoved[k]) continue;
         dense_part(M, t, M->x_tmp, k);
         if (move_one(M, k, t, M->x_tmp + M->x_off[k])) return -1;
     }
@@ -733,6 +784,81 @@ static int record_event(me_master *M, int g, double t)
 
 /* --- events -------------------------------------------------------------------- */
 
+/* The instances not moved between events, at (t, x): where an event or the caller
+   reads them. */
+static int move_unmoved(me_master *M, double t, const double *x)
+{
+    int i;
+    for (i = 0; i < M->n && M->any_unmoved; i++)
+        if (M->unmoved[i] && !M->asleep[i] && move_one(M, i, t, x + M->x_off[i])) return -1;
+    return 0;
+}
+
+static int plan_couplings(me_master *M, coupling_plan *P, const int *needed);
+
+/* The plans between events without the couplings out of timed instances whose value
+   stands still until the next event (rate 0: a wall's position, a belt's speed): the
+   event iteration has set them, nothing else sets their inputs, and evaluating them at
+   every point only finds them unchanged (two_block_belt: 10 of its 22). */
+static int needed_between(const me_master *M, int j)
+{
+    const eng_me_spec *s = M->spec;
+    return (!s->continuous || s->continuous[j]) &&
+           !(M->timed[s->couplings[j].source.instance] && M->timed_rate[j] == 0.0);
+}
+
+static int plan_between(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    int j, changed = 0;
+    for (j = 0; j < s->n_couplings; j++) {
+        const int needed = needed_between(M, j);
+        changed = changed || needed != M->needed[j];
+        M->needed[j] = needed;
+    }
+    if (!changed) return 0;
+    if (plan_couplings(M, &M->between, M->needed)) return -1;
+    if (!M->rows_partial || !s->row_coupling) return 0;
+    for (j = 0; j < s->n_couplings; j++) M->needed[j] = M->needed[j] && s->row_coupling[j];
+    if (plan_couplings(M, &M->rows, M->needed)) return -1;
+    for (j = 0; j < s->n_couplings; j++) M->needed[j] = needed_between(M, j); /* for the next */
+    return 0;
+}
+
+/* A timed instance's constants at the event just settled (t): its derivatives, and for
+   each coupling out of it the source's value and rate (the directional derivative of the
+   output along the derivatives: exact, as the output is affine in the states and free
+   of time). An instance whose reads fail, or with a coupled value of another kind, is
+   evaluated as any other from here on: this saves calls, it decides nothing. */
+static int read_timed(me_master *M, double t)
+{
+    const eng_me_spec *s = M->spec;
+    int i, j;
+    for (i = 0; i < M->n && M->any_timed; i++) {
+        const int lo = M->x_off[i], nx = M->x_off[i + 1] - lo;
+        fmu_t *f = M->fmus[i];
+        int ok;
+        if (!M->timed[i]) continue;
+        M->timed_t[i] = t;
+        ok = !nx || fmu_get_derivatives(f, M->timed_dx + lo, (size_t)nx) == 0;
+        for (j = 0; j < s->n_couplings && ok; j++) {
+            const eng_variable *v = &s->couplings[j].source;
+            if (v->instance != i) continue;
+            M->timed_rate[j] = 0.0;
+            ok = ENG_PLAIN(v) && fmu_get_float64(f, &v->vr, 1, &M->timed_y[j]) == 0 &&
+                 (!nx || fmu_directional_derivative(f, &v->vr, 1, s->instances[i].state_vr,
+                                                    (size_t)nx, M->timed_dx + lo,
+                                                    &M->timed_rate[j]) == 0) &&
+                 isfinite(M->timed_rate[j]);
+        }
+        if (!ok) { /* moved with the others from the next set_point on */
+            M->timed[i] = 0;
+            M->unmoved[i] = M->spec->time_free && M->spec->time_free[i] && nx == 0;
+        }
+    }
+    return M->any_timed && plan_between(M) ? fail(M, "out of memory") : 0;
+}
+
 /* Every instance in event mode (already there when `initial`), discrete updates until
    the instances and the inputs they see settle, then back to continuous time with
    the states re-read into M->x. Event groups flagged in group_changed record their
@@ -741,7 +867,7 @@ static int event_iteration(me_master *M, double t, int initial)
 {
     int i, it, bad, nc = M->spec->n_couplings;
     if (!initial) {
-        if (set_point(M, t, M->x)) return -1;
+        if (set_point(M, t, M->x) || move_unmoved(M, t, M->x)) return -1;
         for (i = 0; i < M->n; i++)
             if (fmu_enter_event_mode(M->fmus[i]))
                 return failed(M, i, "entering event mode", t);
@@ -793,7 +919,7 @@ static int event_iteration(me_master *M, double t, int initial)
                                       (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the continuous states", t);
     }
-    return 0;
+    return read_timed(M, t);
 }
 
 /* After an event: the indicators at the new point become the crossing reference.
@@ -1051,7 +1177,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
     }
     M->stats->t_end = t;
     /* the instances stand at the point reached: their outputs are read from there */
-    return set_point(M, t, M->x);
+    return set_point(M, t, M->x) || move_unmoved(M, t, M->x) ? -1 : 0;
 }
 
 static int integrate(me_master *M)
@@ -1260,6 +1386,28 @@ static int allocate(me_master *M)
     M->x_start = zeros(M->n_x);
     M->asleep = calloc((size_t)M->n + 1, sizeof(int));
     M->evaluate_at = calloc((size_t)M->n + 1, sizeof(int));
+    M->timed = calloc((size_t)M->n + 1, sizeof(int));
+    M->unmoved = calloc((size_t)M->n + 1, sizeof(int));
+    M->needed = calloc((size_t)s->n_couplings + 1, sizeof(int));
+    M->timed_t = zeros(M->n);
+    M->timed_dx = zeros(M->n_x);
+    M->timed_y = zeros(s->n_couplings);
+    M->timed_rate = zeros(s->n_couplings);
+    if (!M->timed || !M->unmoved || !M->needed || !M->timed_t || !M->timed_dx || !M->timed_y ||
+        !M->timed_rate)
+        return -1;
+    for (i = 0; i < n && s->time_function; i++) {
+        /* what read_timed needs, and what no step end asks of it */
+        const eng_instance_spec *in = &s->instances[i];
+        M->timed[i] = s->time_function[i] && in->n_event_indicators == 0 &&
+                      in->completed_step_not_needed && (in->n_states == 0 || in->state_vr);
+        M->any_timed = M->any_timed || M->timed[i];
+    }
+    for (i = 0; i < n; i++) {
+        M->unmoved[i] = M->timed[i] ||
+                        (s->time_free && s->time_free[i] && s->instances[i].n_states == 0);
+        M->any_unmoved = M->any_unmoved || M->unmoved[i];
+    }
     M->z_prev = zeros(M->n_z);
     M->z_now = zeros(M->n_z);
     M->z_hit = zeros(M->n_z);
@@ -1312,6 +1460,8 @@ static void release(me_master *M)
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->fd2);
     free(M->x_before);
     free(M->x_start); free(M->asleep); free(M->evaluate_at);
+    free(M->timed); free(M->unmoved); free(M->needed);
+    free(M->timed_t); free(M->timed_dx); free(M->timed_y); free(M->timed_rate);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
