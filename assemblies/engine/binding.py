@@ -85,7 +85,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("continuous", _P(C.c_int)), ("column_state", _P(C.c_int)),
                 ("row_coupling", _P(C.c_int)), ("jacobian", C.c_int),
                 ("indicator_start", _P(C.c_int)), ("indicator_coupling", _P(C.c_int)),
-                ("time_function", _P(C.c_int)), ("time_free", _P(C.c_int))]
+                ("time_function", _P(C.c_int)), ("time_free", _P(C.c_int)),
+                ("linear_map", _P(C.c_int))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

@@ -225,6 +225,13 @@ typedef struct {
        between two masses): its outputs follow its inputs alone, so between events it is
        not moved to each point, only its inputs are set. NULL: every instance is moved. */
     const int *time_free;
+    /* Per instance, 1 where it is a fixed linear map between events: no states, modes,
+       indicators or time, outputs affine in its inputs with constant coefficients, and no
+       recorded column (a spring between two masses). Between events it is not called:
+       each coupled output is its value at the last event plus its directional
+       derivatives there times the change of the coupled inputs since. Where a read fails,
+       the instance is evaluated as any other. NULL: none. */
+    const int *linear_map;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

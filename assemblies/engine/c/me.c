@@ -93,6 +93,14 @@ typedef struct {
        but at each event and where the run stops (move_unmoved) */
     int *unmoved, any_unmoved;
     int *needed;          /* by coupling: in the plan between events (plan_between) */
+    /* instances that are fixed linear maps between events (eng_me_spec.linear_map;
+       read_linear): linear[i] while they are. By coupling into one: lin_u its input now,
+       lin_u0 at the last event; by coupling out of one: lin_y0 its source value then and
+       lin_row the start of its row in lin_J of d output / d input over the couplings
+       into its instance, lin_in[lin_in_start[i] .. lin_in_start[i + 1] - 1] */
+    int *linear, any_linear, *lin_in_start, *lin_in, *lin_row;
+    int *lin_recorded, any_lin_recorded; /* linear with a recorded column: set before a row */
+    double *lin_u, *lin_u0, *lin_y0, *lin_J;
     long k_out;           /* next output row */
     int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
     int next_defined;     /* a time event is due at t_next */
@@ -152,6 +160,27 @@ static void timed_values(me_master *M, const coupling_plan *P, int p, double t)
     }
 }
 
+/* The source values of the run of couplings from p (plan P) out of a linear instance:
+   each its value at the last event plus d output / d input times each coupled input's
+   change since, exact for a map with constant coefficients, and no call. */
+static void linear_values(me_master *M, const coupling_plan *P, int p)
+{
+    const int end = P->run_end[p];
+    const int i = M->spec->couplings[P->live[p]].source.instance;
+    const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+    for (; p <= end; p++) {
+        const int k = P->live[p];
+        const double *row = M->lin_J + M->lin_row[k];
+        double y = M->lin_y0[k];
+        int a;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            y += row[a] * (M->lin_u[j] - M->lin_u0[j]);
+        }
+        M->read[p] = y;
+    }
+}
+
 /* The couplings of plan P in continuous time, cheaply. They come in segments
    (plan_couplings):
    within one, no coupling reads an instance that another one in it sets, so all of a
@@ -176,6 +205,10 @@ static int couple(me_master *M, const coupling_plan *P, double t)
                 timed_values(M, P, p, t);
                 continue;
             }
+            if (M->linear[source->instance]) {
+                linear_values(M, P, p);
+                continue;
+            }
             rc = !ENG_PLAIN(source)
                          ? eng_get_value(M->fmus[source->instance], source, &M->read[p])
                          : fmu_get_float64(M->fmus[source->instance], P->source_vr + p,
@@ -187,6 +220,10 @@ static int couple(me_master *M, const coupling_plan *P, double t)
             p = P->write_order[w];
             j = P->live[p];
             v = c[j].gain * M->read[p];
+            if (M->linear[c[j].target.instance]) { /* its FMU is set at events only */
+                M->lin_u[j] = v;
+                continue;
+            }
             if (M->sent_valid && v == M->sent[j]) continue;
             if (c[j].target.instance != target && flush(M, target, &n_pending, t)) return -1;
             target = c[j].target.instance;
@@ -657,6 +694,8 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
 
 /* --- outputs ------------------------------------------------------------------- */
 
+static int settle_linear(me_master *M, double t, int recorded);
+
 static int write_row(me_master *M, double t, const double *x)
 {
     const eng_me_spec *s = M->spec;
@@ -665,7 +704,8 @@ static int write_row(me_master *M, double t, const double *x)
     /* standing at (t, x) is not enough for an FMU that computes its outputs in
        fmiSetTime from the states it holds then: set once more, now that they are x */
     if (!M->rows_from_states &&
-        (set_row_point(M, t, x) || (M->any_set_again && move_instances(M, t, x, M->set_again))))
+        (set_row_point(M, t, x) || (M->any_set_again && move_instances(M, t, x, M->set_again))
+         || (M->any_lin_recorded && settle_linear(M, t, 1))))
         return -1;
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
@@ -825,6 +865,60 @@ static int plan_between(me_master *M)
     return 0;
 }
 
+/* Each linear instance's FMU (recorded: those with a recorded column) given the inputs
+   the couplings have brought it to since the last event: where an event, an output row
+   or the caller reads it. */
+static int settle_linear(me_master *M, double t, int recorded)
+{
+    const eng_coupling *c = M->spec->couplings;
+    int i, a;
+    for (i = 0; i < M->n && M->any_linear; i++) {
+        const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+        if (!M->linear[i] || n_in == 0 || (recorded && !M->lin_recorded[i])) continue;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            M->pending_vr[a] = c[j].target.vr;
+            M->pending_value[a] = M->sent[j] = M->lin_u[j];
+        }
+        if (fmu_set_float64(M->fmus[i], M->pending_vr, (size_t)n_in, M->pending_value))
+            return failed(M, i, "setting coupled inputs", t);
+    }
+    return 0;
+}
+
+/* A linear instance's coefficients at the event just settled (t): each coupled input as
+   the event iteration set it, each coupled output's value, and its directional
+   derivative along each coupled input. An instance whose reads fail is evaluated as any
+   other from here on: this saves calls, it decides nothing. */
+static void read_linear(me_master *M, double t)
+{
+    const eng_coupling *c = M->spec->couplings;
+    const double one = 1.0;
+    int i, k, a;
+    (void)t;
+    for (i = 0; i < M->n && M->any_linear; i++) {
+        const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+        fmu_t *f = M->fmus[i];
+        int ok = 1;
+        if (!M->linear[i]) continue;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            M->lin_u[j] = M->lin_u0[j] = M->sent[j]; /* what the last propagation set */
+        }
+        for (k = 0; k < M->spec->n_couplings && ok; k++) {
+            if (c[k].source.instance != i) continue;
+            ok = fmu_get_float64(f, &c[k].source.vr, 1, &M->lin_y0[k]) == 0;
+            for (a = 0; a < n_in && ok; a++) {
+                double *entry = M->lin_J + M->lin_row[k] + a;
+                ok = fmu_directional_derivative(f, &c[k].source.vr, 1,
+                                                &c[M->lin_in[first + a]].target.vr, 1, &one,
+                                                entry) == 0 && isfinite(*entry);
+            }
+        }
+        if (!ok) M->linear[i] = 0; /* its inputs are as sent[] says: set from here on */
+    }
+}
+
 /* A timed instance's constants at the event just settled (t): its derivatives, and for
    each coupling out of it the source's value and rate (the directional derivative of the
    output along the derivatives: exact, as the output is affine in the states and free
@@ -867,7 +961,8 @@ static int event_iteration(me_master *M, double t, int initial)
 {
     int i, it, bad, nc = M->spec->n_couplings;
     if (!initial) {
-        if (set_point(M, t, M->x) || move_unmoved(M, t, M->x)) return -1;
+        if (set_point(M, t, M->x) || move_unmoved(M, t, M->x) || settle_linear(M, t, 0))
+            return -1;
         for (i = 0; i < M->n; i++)
             if (fmu_enter_event_mode(M->fmus[i]))
                 return failed(M, i, "entering event mode", t);
@@ -919,6 +1014,7 @@ static int event_iteration(me_master *M, double t, int initial)
                                       (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the continuous states", t);
     }
+    read_linear(M, t);
     return read_timed(M, t);
 }
 
@@ -1177,7 +1273,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
     }
     M->stats->t_end = t;
     /* the instances stand at the point reached: their outputs are read from there */
-    return set_point(M, t, M->x) || move_unmoved(M, t, M->x) ? -1 : 0;
+    return set_point(M, t, M->x) || move_unmoved(M, t, M->x) || settle_linear(M, t, 0) ? -1 : 0;
 }
 
 static int integrate(me_master *M)
@@ -1352,6 +1448,62 @@ static int plan_set_again(me_master *M)
     return 0;
 }
 
+/* The linear instances (eng_me_spec.linear_map) that qualify (no states, indicators,
+   and only Float64 scalars coupled to them), and where their coefficients go. */
+static int allocate_linear(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    const int n = M->n, nc = s->n_couplings;
+    int i, k, a;
+    size_t total = 0;
+    M->linear = calloc((size_t)n + 1, sizeof(int));
+    M->lin_in_start = calloc((size_t)n + 1, sizeof(int));
+    M->lin_in = calloc((size_t)nc + 1, sizeof(int));
+    M->lin_row = calloc((size_t)nc + 1, sizeof(int));
+    M->lin_u = zeros(nc);
+    M->lin_u0 = zeros(nc);
+    M->lin_y0 = zeros(nc);
+    M->lin_recorded = calloc((size_t)n + 1, sizeof(int));
+    if (!M->linear || !M->lin_recorded || !M->lin_in_start || !M->lin_in || !M->lin_row || !M->lin_u ||
+        !M->lin_u0 || !M->lin_y0)
+        return -1;
+    for (i = 0; i < n && s->linear_map; i++) {
+        const eng_instance_spec *in = &s->instances[i];
+        M->linear[i] = s->linear_map[i] && in->n_states == 0 && in->n_event_indicators == 0;
+    }
+    for (k = 0; k < nc; k++) { /* scalars of Float64 only */
+        const eng_coupling *c = &s->couplings[k];
+        if (!ENG_PLAIN(&c->source)) M->linear[c->source.instance] = 0;
+        if (!ENG_PLAIN(&c->target)) M->linear[c->target.instance] = 0;
+    }
+    for (i = 0; i < n; i++) { /* the couplings into each, in order */
+        M->lin_in_start[i + 1] = M->lin_in_start[i];
+        for (k = 0; k < nc && M->linear[i]; k++)
+            if (s->couplings[k].target.instance == i) M->lin_in[M->lin_in_start[i + 1]++] = k;
+    }
+    for (k = 0; k < nc; k++) { /* a row per coupling out of one, as wide as its inputs */
+        i = s->couplings[k].source.instance;
+        if (!M->linear[i]) continue;
+        a = M->lin_in_start[i + 1] - M->lin_in_start[i];
+        if (total + (size_t)a > (size_t)1 << 24) { /* bounded: such a member is evaluated */
+            M->linear[i] = 0;
+            continue;
+        }
+        M->lin_row[k] = (int)total;
+        total += (size_t)a;
+    }
+    /* an instance dropped above keeps rows that are never read */
+    M->lin_J = calloc(total + 1, sizeof(double));
+    if (!M->lin_J) return -1;
+    for (i = 0; i < n; i++) M->any_linear = M->any_linear || M->linear[i];
+    for (k = 0; k < s->n_columns; k++) {
+        i = s->columns[k].instance;
+        M->lin_recorded[i] = M->linear[i];
+        M->any_lin_recorded = M->any_lin_recorded || M->linear[i];
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -1403,8 +1555,9 @@ static int allocate(me_master *M)
                       in->completed_step_not_needed && (in->n_states == 0 || in->state_vr);
         M->any_timed = M->any_timed || M->timed[i];
     }
+    if (allocate_linear(M)) return -1;
     for (i = 0; i < n; i++) {
-        M->unmoved[i] = M->timed[i] ||
+        M->unmoved[i] = M->timed[i] || M->linear[i] ||
                         (s->time_free && s->time_free[i] && s->instances[i].n_states == 0);
         M->any_unmoved = M->any_unmoved || M->unmoved[i];
     }
@@ -1461,6 +1614,8 @@ static void release(me_master *M)
     free(M->x_before);
     free(M->x_start); free(M->asleep); free(M->evaluate_at);
     free(M->timed); free(M->unmoved); free(M->needed);
+    free(M->linear); free(M->lin_recorded); free(M->lin_in_start); free(M->lin_in); free(M->lin_row);
+    free(M->lin_u); free(M->lin_u0); free(M->lin_y0); free(M->lin_J);
     free(M->timed_t); free(M->timed_dx); free(M->timed_y); free(M->timed_rate);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
