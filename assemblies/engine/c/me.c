@@ -100,6 +100,11 @@ typedef struct {
        into its instance, lin_in[lin_in_start[i] .. lin_in_start[i + 1] - 1] */
     int *linear, any_linear, *lin_in_start, *lin_in, *lin_row;
     int *lin_recorded, any_lin_recorded; /* linear with a recorded column: set before a row */
+    int *lin_ready;       /* its lin_J is read (once: the coefficients are constants) */
+    /* the couplings out of each instance, out_list[out_start[i] .. out_start[i + 1] - 1],
+       and their source value references in that order (out_vr) */
+    int *out_start, *out_list;
+    uint32_t *out_vr;
     double *lin_u, *lin_u0, *lin_y0, *lin_J;
     long k_out;           /* next output row */
     int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
@@ -890,31 +895,33 @@ static int settle_linear(me_master *M, double t, int recorded)
    the event iteration set it, each coupled output's value, and its directional
    derivative along each coupled input. An instance whose reads fail is evaluated as any
    other from here on: this saves calls, it decides nothing. */
-static void read_linear(me_master *M, double t)
+static void read_linear(me_master *M)
 {
     const eng_coupling *c = M->spec->couplings;
     const double one = 1.0;
-    int i, k, a;
-    (void)t;
+    int i, a, b;
     for (i = 0; i < M->n && M->any_linear; i++) {
         const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+        const int out = M->out_start[i], n_out = M->out_start[i + 1] - out;
         fmu_t *f = M->fmus[i];
-        int ok = 1;
+        int ok;
         if (!M->linear[i]) continue;
         for (a = 0; a < n_in; a++) {
             const int j = M->lin_in[first + a];
             M->lin_u[j] = M->lin_u0[j] = M->sent[j]; /* what the last propagation set */
         }
-        for (k = 0; k < M->spec->n_couplings && ok; k++) {
-            if (c[k].source.instance != i) continue;
-            ok = fmu_get_float64(f, &c[k].source.vr, 1, &M->lin_y0[k]) == 0;
-            for (a = 0; a < n_in && ok; a++) {
+        ok = fmu_get_float64(f, M->out_vr + out, (size_t)n_out, M->pending_value) == 0;
+        for (b = 0; b < n_out && ok; b++) {
+            const int k = M->out_list[out + b];
+            M->lin_y0[k] = M->pending_value[b];
+            for (a = 0; a < n_in && ok && !M->lin_ready[i]; a++) {
                 double *entry = M->lin_J + M->lin_row[k] + a;
                 ok = fmu_directional_derivative(f, &c[k].source.vr, 1,
                                                 &c[M->lin_in[first + a]].target.vr, 1, &one,
                                                 entry) == 0 && isfinite(*entry);
             }
         }
+        M->lin_ready[i] = ok;
         if (!ok) M->linear[i] = 0; /* its inputs are as sent[] says: set from here on */
     }
 }
@@ -927,7 +934,7 @@ static void read_linear(me_master *M, double t)
 static int read_timed(me_master *M, double t)
 {
     const eng_me_spec *s = M->spec;
-    int i, j;
+    int i, j, b;
     for (i = 0; i < M->n && M->any_timed; i++) {
         const int lo = M->x_off[i], nx = M->x_off[i + 1] - lo;
         fmu_t *f = M->fmus[i];
@@ -935,9 +942,8 @@ static int read_timed(me_master *M, double t)
         if (!M->timed[i]) continue;
         M->timed_t[i] = t;
         ok = !nx || fmu_get_derivatives(f, M->timed_dx + lo, (size_t)nx) == 0;
-        for (j = 0; j < s->n_couplings && ok; j++) {
-            const eng_variable *v = &s->couplings[j].source;
-            if (v->instance != i) continue;
+        for (b = M->out_start[i]; b < M->out_start[i + 1] && ok; b++) {
+            const eng_variable *v = &s->couplings[j = M->out_list[b]].source;
             M->timed_rate[j] = 0.0;
             ok = ENG_PLAIN(v) && fmu_get_float64(f, &v->vr, 1, &M->timed_y[j]) == 0 &&
                  (!nx || fmu_directional_derivative(f, &v->vr, 1, s->instances[i].state_vr,
@@ -1014,7 +1020,7 @@ static int event_iteration(me_master *M, double t, int initial)
                                       (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the continuous states", t);
     }
-    read_linear(M, t);
+    read_linear(M);
     return read_timed(M, t);
 }
 
@@ -1464,9 +1470,23 @@ static int allocate_linear(me_master *M)
     M->lin_u0 = zeros(nc);
     M->lin_y0 = zeros(nc);
     M->lin_recorded = calloc((size_t)n + 1, sizeof(int));
-    if (!M->linear || !M->lin_recorded || !M->lin_in_start || !M->lin_in || !M->lin_row || !M->lin_u ||
-        !M->lin_u0 || !M->lin_y0)
+    M->lin_ready = calloc((size_t)n + 1, sizeof(int));
+    M->out_start = calloc((size_t)n + 1, sizeof(int));
+    M->out_list = calloc((size_t)nc + 1, sizeof(int));
+    M->out_vr = calloc((size_t)nc + 1, sizeof(uint32_t));
+    if (!M->linear || !M->lin_recorded || !M->lin_ready || !M->lin_in_start || !M->lin_in ||
+        !M->lin_row || !M->lin_u || !M->lin_u0 || !M->lin_y0 || !M->out_start || !M->out_list ||
+        !M->out_vr)
         return -1;
+    for (k = 0; k < nc; k++) M->out_start[s->couplings[k].source.instance + 1]++;
+    for (i = 0; i < n; i++) M->out_start[i + 1] += M->out_start[i];
+    for (k = 0; k < nc; k++) { /* by source instance, in coupling order (lin_ready: a cursor) */
+        i = s->couplings[k].source.instance;
+        a = M->out_start[i] + M->lin_ready[i]++;
+        M->out_list[a] = k;
+        M->out_vr[a] = s->couplings[k].source.vr;
+    }
+    memset(M->lin_ready, 0, (size_t)(n + 1) * sizeof(int));
     for (i = 0; i < n && s->linear_map; i++) {
         const eng_instance_spec *in = &s->instances[i];
         M->linear[i] = s->linear_map[i] && in->n_states == 0 && in->n_event_indicators == 0;
@@ -1476,11 +1496,16 @@ static int allocate_linear(me_master *M)
         if (!ENG_PLAIN(&c->source)) M->linear[c->source.instance] = 0;
         if (!ENG_PLAIN(&c->target)) M->linear[c->target.instance] = 0;
     }
-    for (i = 0; i < n; i++) { /* the couplings into each, in order */
-        M->lin_in_start[i + 1] = M->lin_in_start[i];
-        for (k = 0; k < nc && M->linear[i]; k++)
-            if (s->couplings[k].target.instance == i) M->lin_in[M->lin_in_start[i + 1]++] = k;
+    /* the couplings into each, in order (lin_ready: a cursor, cleared after) */
+    for (k = 0; k < nc; k++)
+        if (M->linear[s->couplings[k].target.instance])
+            M->lin_in_start[s->couplings[k].target.instance + 1]++;
+    for (i = 0; i < n; i++) M->lin_in_start[i + 1] += M->lin_in_start[i];
+    for (k = 0; k < nc; k++) {
+        i = s->couplings[k].target.instance;
+        if (M->linear[i]) M->lin_in[M->lin_in_start[i] + M->lin_ready[i]++] = k;
     }
+    memset(M->lin_ready, 0, (size_t)(n + 1) * sizeof(int));
     for (k = 0; k < nc; k++) { /* a row per coupling out of one, as wide as its inputs */
         i = s->couplings[k].source.instance;
         if (!M->linear[i]) continue;
@@ -1614,7 +1639,8 @@ static void release(me_master *M)
     free(M->x_before);
     free(M->x_start); free(M->asleep); free(M->evaluate_at);
     free(M->timed); free(M->unmoved); free(M->needed);
-    free(M->linear); free(M->lin_recorded); free(M->lin_in_start); free(M->lin_in); free(M->lin_row);
+    free(M->linear); free(M->lin_recorded); free(M->lin_ready); free(M->lin_in_start);
+    free(M->out_start); free(M->out_list); free(M->out_vr); free(M->lin_in); free(M->lin_row);
     free(M->lin_u); free(M->lin_u0); free(M->lin_y0); free(M->lin_J);
     free(M->timed_t); free(M->timed_dx); free(M->timed_y); free(M->timed_rate);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
