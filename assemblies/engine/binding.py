@@ -87,7 +87,9 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("row_coupling", _P(C.c_int)), ("jacobian", C.c_int),
                 ("indicator_start", _P(C.c_int)), ("indicator_coupling", _P(C.c_int)),
                 ("n_loops", C.c_int), ("loop_first", _P(C.c_int)), ("loop_count", _P(C.c_int)),
-                ("loop_name", _P(C.c_char_p))]
+                ("loop_name", _P(C.c_char_p)),
+                ("time_function", _P(C.c_int)), ("time_free", _P(C.c_int)),
+                ("linear_map", _P(C.c_int))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

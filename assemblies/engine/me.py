@@ -125,6 +125,11 @@ class _Plan:
         self.rows = None if rows is None else keep.array(C.c_int, [int(needed) for needed in rows])
         self.indicator_start = self.indicator_coupling = None  # set_indicator_couplings
         self.loops = []  # set_loops
+        self.time_function = None  # eng_me_spec.time_function (set_time_functions)
+        self.from_time = []  # their names
+        self.time_free = None  # eng_me_spec.time_free (set_time_functions)
+        self.linear_map = None  # eng_me_spec.linear_map (set_time_functions)
+        self.linear = []  # their names
         self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
                          in zip(couplings, continuous or []) if not needed]
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
@@ -201,6 +206,15 @@ class _Plan:
         self.loop_first = self.keep.array(C.c_int, [first for first, _, _ in loops])
         self.loop_count = self.keep.array(C.c_int, [count for _, count, _ in loops])
         self.loop_name = self.keep.array(C.c_char_p, [name.encode() for _, _, name in loops])
+    def set_time_functions(self, flags: list[int], free: list[int], linear: list[int]) -> None:
+        if any(flags):
+            self.time_function = self.keep.array(C.c_int, flags)
+            self.from_time = [n for n, f in zip(self.names, flags) if f]
+        if any(free):
+            self.time_free = self.keep.array(C.c_int, free)
+        if any(linear):
+            self.linear_map = self.keep.array(C.c_int, linear)
+            self.linear = [n for n, f in zip(self.names, linear) if f]
 
     def set_indicator_couplings(self, names: list[str], by_instance: dict) -> None:
         """eng_me_spec.indicator_start/_coupling from liveness.indicator_couplings."""
@@ -226,7 +240,8 @@ class _Plan:
                 progress=prog.callback, rest_group=self.rest_group,
                 continuous=self.continuous, column_state=self.column_state,
                 row_coupling=self.rows, indicator_start=self.indicator_start,
-                indicator_coupling=self.indicator_coupling)
+                indicator_coupling=self.indicator_coupling, time_function=self.time_function,
+                time_free=self.time_free, linear_map=self.linear_map)
             if self.loops:
                 spec.n_loops, spec.loop_first, spec.loop_count, spec.loop_name = (
                     len(self.loops), self.loop_first, self.loop_count, self.loop_name)
@@ -280,6 +295,8 @@ class _Plan:
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
             "event_location": "whole assembly" if self.indicator_start is None else "per instance",
             "set_at_events_only": list(self.deferred),
+            "evaluated_from_time": list(self.from_time),
+            "evaluated_as_linear_maps": list(self.linear),
             "terminated": None if stats.status != B.TERMINATED else
             {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
              "message": message}}
@@ -310,27 +327,95 @@ def time_paths(component) -> dict:
     (CasADi's depends_on), as the joined model's would be. A fact of its class, profile
     and options, kept in the recipe store beside the FMU's facts (read without flattening
     once known)."""
-    memo = _time_paths.get(binary_key(component))
+    def paths(m):
+        def reads(expr):
+            return (bool(ca.depends_on(expr, m.t)),
+                    [v.name for i, v in enumerate(m.inputs) if ca.depends_on(expr, m.u[i])])
+        return {"indicators": reads(m.z) if m.z.numel() else (False, []),
+                "outputs": {v.name: reads(m.y[i]) for i, v in enumerate(m.outputs)}}
+    return _model_fact(component, "time_paths", paths)
+
+
+def is_time_function(component) -> bool:
+    """Are the component's states and outputs exact functions of time between events?
+    Its state derivatives are constants (of parameters and modes), its outputs affine in
+    the states and free of time and inputs, and it has no event indicators: a kinematic
+    source such as ConstantSpeed (travel' = v, s = s0 + travel). The engine then reads
+    its derivatives and each coupled output's value and rate at every event and takes
+    the outputs from time in between, calling it no more (eng_me_spec.time_function).
+    A fact of its class, profile and options, as time_paths."""
+    def affine(m):
+        moving = ca.vertcat(m.t, m.x, m.u)
+        return bool(m.z.numel() == 0 and not ca.depends_on(m.xdot, moving)
+                    and not ca.depends_on(m.y, ca.vertcat(m.t, m.u))
+                    and not ca.depends_on(ca.jacobian(m.y, m.x), moving))
+    return bool(_model_fact(component, "time_function", affine))
+
+
+def linear_outputs(component) -> list[str]:
+    """The outputs of a component with no states, modes, indicators or time that are
+    affine in its inputs with coefficients of the parameters only (a spring's forces, not
+    its energy); none for any other component. Where every output an assembly couples
+    is one, the member is a fixed linear map between events: the engine takes those
+    outputs from their values and directional derivatives at the last event and the
+    inputs' change since, calling it no more (eng_me_spec.linear_map). A fact of its
+    class, profile and options, as time_paths."""
+    def linear(m):
+        if m.x.numel() or m.q.numel() or m.z.numel():
+            return []
+        moving = ca.vertcat(m.t, m.u)
+        return [v.name for i, v in enumerate(m.outputs) if not ca.depends_on(m.y[i], m.t)
+                and not ca.depends_on(ca.jacobian(m.y[i], m.u), moving)]
+    return list(_model_fact(component, "linear_outputs", linear))
+
+
+def is_linear_map(component, coupled: set) -> bool:
+    """Every output of `component` in `coupled` is a linear one (linear_outputs)."""
+    return bool(coupled) and coupled <= set(linear_outputs(component))
+
+
+def _model_fact(component, name: str, compute: Callable):
+    """compute(flat model) of the component's class, profile and options: kept in the
+    recipe store beside the FMU's facts, so that it is read without flattening once
+    known, and in memory for the process."""
+    memo = _facts.get((name, binary_key(component)))
     if memo is not None:
         return memo
     defaults = class_defaults(component)
     key = fmu_recipe(defaults)
-    known = recipes().get(key).get("time_paths") if key is not None else None
+    known = recipes().get(key).get(name) if key is not None else None
     if known is None:
-        m = flatten(defaults)
-
-        def reads(expr):
-            return (bool(ca.depends_on(expr, m.t)),
-                    [v.name for i, v in enumerate(m.inputs) if ca.depends_on(expr, m.u[i])])
-        known = {"indicators": reads(m.z) if m.z.numel() else (False, []),
-                 "outputs": {v.name: reads(m.y[i]) for i, v in enumerate(m.outputs)}}
+        known = compute(flatten(defaults))
         if key is not None:
-            recipes().update(key, time_paths=known)
-    _time_paths[binary_key(component)] = known
+            recipes().update(key, **{name: known})
+    _facts[(name, binary_key(component))] = known
     return known
 
 
-_time_paths: dict = {}
+_facts: dict = {}
+
+
+def evaluated_members(assembly: Assembly, fmus: dict, columns: list, couplings,
+                      linear: bool) -> list[int]:
+    """eng_me_spec.time_function (is_time_function) or, with `linear`, .linear_map
+    (is_linear_map, on the outputs `couplings` read) per instance: ours, with the
+    directional derivatives that give each coupled output's rate, no step end to be told
+    of, and, for a time function, no recorded column (a column reads the instance, which
+    is not called between events; a linear map's inputs are set before a row instead)."""
+    recorded = {name for name, _ in columns}
+    read = {name: set() for name in fmus}
+    for c in couplings:
+        read[c.source[0]].add(c.source[1])
+    flags = []
+    for name, comp in assembly.components.items():
+        fmu = fmus[name]
+        flags.append(int(isinstance(comp, Component) and (linear or name not in recorded)
+                         and fmu.n_event_indicators == 0 and fmu.completed_step_not_needed
+                         and fmu.me_directional_derivative
+                         and len(fmu.states) == len(fmu.derivatives) == fmu.n_states
+                         and (is_linear_map(comp, read[name]) if linear
+                              else is_time_function(comp))))
+    return flags
 
 
 def step_limit_needed(assembly: Assembly) -> bool:
@@ -477,6 +562,9 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             plan.set_indicator_couplings(names, indicator_couplings(fmus, ordered))
         plan.capped = step_limit_needed(assembly)
         plan.set_rest_groups(rest_groups(names, couplings, fmus))
+        plan.set_time_functions(evaluated_members(assembly, fmus, recorded, ordered, False),
+                                [int(f.autonomous and f.n_states == 0) for f in fmus.values()],
+                                evaluated_members(assembly, fmus, recorded, ordered, True))
         return plan
 
     # the names set before initialisation shape the plan's start lists: an instance given

@@ -226,6 +226,25 @@ typedef struct {
     int n_loops;
     const int *loop_first, *loop_count;
     const char *const *loop_name;
+    /* Per instance, 1 where its states and coupled outputs are exact functions of time
+       between events: constant state derivatives, outputs affine in the states and free
+       of time and inputs, no event indicators, no recorded column (a kinematic source:
+       ConstantSpeed). Between events such an instance is not called: its derivatives are
+       the constants read at the last event and each coupled output is its value there
+       plus its rate (the directional derivative along those derivatives) times the time
+       since. Where a read fails, the instance is evaluated as any other. NULL: none. */
+    const int *time_function;
+    /* Per instance, 1 where it has no states and time appears nowhere in it (a spring
+       between two masses): its outputs follow its inputs alone, so between events it is
+       not moved to each point, only its inputs are set. NULL: every instance is moved. */
+    const int *time_free;
+    /* Per instance, 1 where it is a fixed linear map between events: no states, modes,
+       indicators or time, outputs affine in its inputs with constant coefficients, and no
+       recorded column (a spring between two masses). Between events it is not called:
+       each coupled output is its value at the last event plus its directional
+       derivatives there times the change of the coupled inputs since. Where a read fails,
+       the instance is evaluated as any other. NULL: none. */
+    const int *linear_map;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

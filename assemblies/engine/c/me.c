@@ -100,6 +100,29 @@ typedef struct {
     int thin;             /* one instance, no couplings, mfEvaluateAt: the thin path (thin_point) */
     fmu_off off;          /* on the thin path, mfEvaluateOff where the FMU has it (off.fn) */
     int *evaluate_at;     /* per instance: its FMU has mfEvaluateAt (move_one) */
+    /* instances evaluated from time between events (eng_me_spec.time_function; read_timed):
+       timed[i] while they are, timed_t[i] the event their constants come from, timed_dx
+       their derivatives then (by state), timed_y and timed_rate each coupling's source
+       value then and its rate (by coupling, for couplings out of a timed instance) */
+    int *timed, any_timed;
+    double *timed_t, *timed_dx, *timed_y, *timed_rate;
+    /* per instance: not moved between events, as timed or time-free (eng_me_spec.time_free),
+       but at each event and where the run stops (move_unmoved) */
+    int *unmoved, any_unmoved;
+    int *needed;          /* by coupling: in the plan between events (plan_between) */
+    /* instances that are fixed linear maps between events (eng_me_spec.linear_map;
+       read_linear): linear[i] while they are. By coupling into one: lin_u its input now,
+       lin_u0 at the last event; by coupling out of one: lin_y0 its source value then and
+       lin_row the start of its row in lin_J of d output / d input over the couplings
+       into its instance, lin_in[lin_in_start[i] .. lin_in_start[i + 1] - 1] */
+    int *linear, any_linear, *lin_in_start, *lin_in, *lin_row;
+    int *lin_recorded, any_lin_recorded; /* linear with a recorded column: set before a row */
+    int *lin_ready;       /* its lin_J is read (once: the coefficients are constants) */
+    /* the couplings out of each instance, out_list[out_start[i] .. out_start[i + 1] - 1],
+       and their source value references in that order (out_vr) */
+    int *out_start, *out_list;
+    uint32_t *out_vr;
+    double *lin_u, *lin_u0, *lin_y0, *lin_J;
     long k_out;           /* next output row */
     int rows_from_states; /* every column is a state (eng_me_spec.column_state) */
     int next_defined;     /* a time event is due at t_next */
@@ -250,6 +273,41 @@ static int propagate(me_master *M, double *values, double t)
     return 0;
 }
 
+/* The source values of the run of couplings from p (plan P) out of a timed instance at
+   t: each is its value at the last event plus its rate times the time since, as exact
+   as the source's own evaluation (its outputs are affine in states that move at a
+   constant rate), and no call. */
+static void timed_values(me_master *M, const coupling_plan *P, int p, double t)
+{
+    const int end = P->run_end[p];
+    const double dt = t - M->timed_t[M->spec->couplings[P->live[p]].source.instance];
+    for (; p <= end; p++) {
+        const int j = P->live[p];
+        M->read[p] = M->timed_y[j] + M->timed_rate[j] * dt;
+    }
+}
+
+/* The source values of the run of couplings from p (plan P) out of a linear instance:
+   each its value at the last event plus d output / d input times each coupled input's
+   change since, exact for a map with constant coefficients, and no call. */
+static void linear_values(me_master *M, const coupling_plan *P, int p)
+{
+    const int end = P->run_end[p];
+    const int i = M->spec->couplings[P->live[p]].source.instance;
+    const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+    for (; p <= end; p++) {
+        const int k = P->live[p];
+        const double *row = M->lin_J + M->lin_row[k];
+        double y = M->lin_y0[k];
+        int a;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            y += row[a] * (M->lin_u[j] - M->lin_u0[j]);
+        }
+        M->read[p] = y;
+    }
+}
+
 /* The couplings of plan P in continuous time, cheaply. They come in segments
    (plan_couplings):
    within one, no coupling reads an instance that another one in it sets, so all of a
@@ -273,7 +331,16 @@ static int couple(me_master *M, const coupling_plan *P, double t)
         }
         for (p = k; p <= end; p = P->run_end[p] + 1) {
             const eng_variable *source = &c[P->live[p]].source;
-            int rc = !ENG_PLAIN(source)
+            int rc;
+            if (M->timed[source->instance]) {
+                timed_values(M, P, p, t);
+                continue;
+            }
+            if (M->linear[source->instance]) {
+                linear_values(M, P, p);
+                continue;
+            }
+            rc = !ENG_PLAIN(source)
                          ? eng_get_value(M->fmus[source->instance], source, &M->read[p])
                          : fmu_get_float64(M->fmus[source->instance], P->source_vr + p,
                                            (size_t)(P->run_end[p] - p + 1), M->read + p);
@@ -284,6 +351,10 @@ static int couple(me_master *M, const coupling_plan *P, double t)
             p = P->write_order[w];
             j = P->live[p];
             v = c[j].gain * M->read[p];
+            if (M->linear[c[j].target.instance]) { /* its FMU is set at events only */
+                M->lin_u[j] = v;
+                continue;
+            }
             if (M->sent_valid && v == M->sent[j]) continue;
             if (c[j].target.instance != target && flush(M, target, &n_pending, t)) return -1;
             target = c[j].target.instance;
@@ -331,6 +402,7 @@ static int move_instances(me_master *M, double t, const double *x, const int *on
     int i;
     for (i = 0; i < M->n; i++) {
         if (M->asleep[i]) continue; /* it stands where it fell asleep, for good */
+        if (M->unmoved[i]) continue; /* moved at events only (move_unmoved) */
         if (only && !only[i]) continue;
         if (move_one(M, i, t, x + M->x_off[i])) return -1;
     }
@@ -394,6 +466,10 @@ static int rhs(void *ctx, double t, const double *x, double *dx)
             for (j = M->x_off[i]; j < M->x_off[i + 1]; j++) dx[j] = 0.0;
             continue;
         }
+        if (M->timed[i]) {
+            for (j = M->x_off[i]; j < M->x_off[i + 1]; j++) dx[j] = M->timed_dx[j];
+            continue;
+        }
         if (M->x_off[i + 1] > M->x_off[i] &&
             fmu_get_derivatives(M->fmus[i], dx + M->x_off[i],
                                 (size_t)(M->x_off[i + 1] - M->x_off[i])))
@@ -420,6 +496,19 @@ static void drop_exact(me_master *M, int instance, const char *format, ...)
         vsnprintf(note + k, size - (size_t)k, format, args);
         va_end(args);
     }
+}
+
+/* The directional derivatives see a timed instance's outputs move with its states; the
+   right-hand side takes them from time (read_timed), so its columns are zero there and
+   the time dependence is RODAS3's df/dt: the matrix of the function integrated. */
+static void drop_timed_columns(const me_master *M, double *jac)
+{
+    int i;
+    if (!M->any_timed) return;
+    for (i = 0; i < M->n; i++)
+        if (M->timed[i] && M->x_off[i + 1] > M->x_off[i])
+            memset(jac + (size_t)M->x_off[i] * (size_t)M->n_x, 0,
+                   (size_t)(M->x_off[i + 1] - M->x_off[i]) * (size_t)M->n_x * sizeof(double));
 }
 
 /* Column j of d f / d x at (t, x) by central differences with the step delta against
@@ -480,6 +569,7 @@ static int probe_jacobian(me_master *M, double t)
         return 0;
     }
     if (rc > 0) return 0; /* a loop: the solver's first Jacobian finds it and falls back */
+    drop_timed_columns(M, exact);
     for (j = 0; j < n; j++) {
         const double *column = exact + (size_t)j * (size_t)n;
         const double delta = cbrt(DBL_EPSILON) * fmax(fabs(M->x[j]), M->nominals[j]);
@@ -522,7 +612,10 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
         int bad = -1, rc;
         if (set_point(M, t, x)) return -1;
         rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, jac, &bad);
-        if (rc == 0) return 0;
+        if (rc == 0) {
+            drop_timed_columns(M, jac);
+            return 0;
+        }
         if (M->spec->jacobian == ENG_JACOBIAN_EXACT)
             return rc < 0 ? failed(M, bad, "getting the directional derivatives "
                                            "(jacobian='exact')", t)
@@ -624,7 +717,7 @@ static int local_indicators(void *ctx, double t, double *z)
     M->set_valid = 0;
     for (a = M->local_start[i]; a < M->local_start[i + 1]; a++) {
         const int k = M->local_instance[a];
-        if (M->asleep[k]) continue;
+        if (M->asleep[k] || M->unmoved[k]) continue;
         dense_part(M, t, M->x_tmp, k);
         if (move_one(M, k, t, M->x_tmp + M->x_off[k])) return -1;
     }
@@ -740,6 +833,8 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
 
 /* --- outputs ------------------------------------------------------------------- */
 
+static int settle_linear(me_master *M, double t, int recorded);
+
 static int write_row(me_master *M, double t, const double *x)
 {
     const eng_me_spec *s = M->spec;
@@ -748,7 +843,8 @@ static int write_row(me_master *M, double t, const double *x)
     /* standing at (t, x) is not enough for an FMU that computes its outputs in
        fmiSetTime from the states it holds then: set once more, now that they are x */
     if (!M->rows_from_states &&
-        (set_row_point(M, t, x) || (M->any_set_again && move_instances(M, t, x, M->set_again))))
+        (set_row_point(M, t, x) || (M->any_set_again && move_instances(M, t, x, M->set_again))
+         || (M->any_lin_recorded && settle_linear(M, t, 1))))
         return -1;
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
@@ -867,6 +963,136 @@ static int record_event(me_master *M, int g, double t)
 
 /* --- events -------------------------------------------------------------------- */
 
+/* The instances not moved between events, at (t, x): where an event or the caller
+   reads them. */
+static int move_unmoved(me_master *M, double t, const double *x)
+{
+    int i;
+    for (i = 0; i < M->n && M->any_unmoved; i++)
+        if (M->unmoved[i] && !M->asleep[i] && move_one(M, i, t, x + M->x_off[i])) return -1;
+    return 0;
+}
+
+static int plan_couplings(me_master *M, coupling_plan *P, const int *needed);
+
+/* The plans between events without the couplings out of timed instances whose value
+   stands still until the next event (rate 0: a wall's position, a belt's speed): the
+   event iteration has set them, nothing else sets their inputs, and evaluating them at
+   every point only finds them unchanged (two_block_belt: 10 of its 22). */
+static int needed_between(const me_master *M, int j)
+{
+    const eng_me_spec *s = M->spec;
+    return (!s->continuous || s->continuous[j]) &&
+           !(M->timed[s->couplings[j].source.instance] && M->timed_rate[j] == 0.0);
+}
+
+static int plan_between(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    int j, changed = 0;
+    for (j = 0; j < s->n_couplings; j++) {
+        const int needed = needed_between(M, j);
+        changed = changed || needed != M->needed[j];
+        M->needed[j] = needed;
+    }
+    if (!changed) return 0;
+    if (plan_couplings(M, &M->between, M->needed)) return -1;
+    if (!M->rows_partial || !s->row_coupling) return 0;
+    for (j = 0; j < s->n_couplings; j++) M->needed[j] = M->needed[j] && s->row_coupling[j];
+    if (plan_couplings(M, &M->rows, M->needed)) return -1;
+    for (j = 0; j < s->n_couplings; j++) M->needed[j] = needed_between(M, j); /* for the next */
+    return 0;
+}
+
+/* Each linear instance's FMU (recorded: those with a recorded column) given the inputs
+   the couplings have brought it to since the last event: where an event, an output row
+   or the caller reads it. */
+static int settle_linear(me_master *M, double t, int recorded)
+{
+    const eng_coupling *c = M->spec->couplings;
+    int i, a;
+    for (i = 0; i < M->n && M->any_linear; i++) {
+        const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+        if (!M->linear[i] || n_in == 0 || (recorded && !M->lin_recorded[i])) continue;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            M->pending_vr[a] = c[j].target.vr;
+            M->pending_value[a] = M->sent[j] = M->lin_u[j];
+        }
+        if (fmu_set_float64(M->fmus[i], M->pending_vr, (size_t)n_in, M->pending_value))
+            return failed(M, i, "setting coupled inputs", t);
+    }
+    return 0;
+}
+
+/* A linear instance's coefficients at the event just settled (t): each coupled input as
+   the event iteration set it, each coupled output's value, and its directional
+   derivative along each coupled input. An instance whose reads fail is evaluated as any
+   other from here on: this saves calls, it decides nothing. */
+static void read_linear(me_master *M)
+{
+    const eng_coupling *c = M->spec->couplings;
+    const double one = 1.0;
+    int i, a, b;
+    for (i = 0; i < M->n && M->any_linear; i++) {
+        const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
+        const int out = M->out_start[i], n_out = M->out_start[i + 1] - out;
+        fmu_t *f = M->fmus[i];
+        int ok;
+        if (!M->linear[i]) continue;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            M->lin_u[j] = M->lin_u0[j] = M->sent[j]; /* what the last propagation set */
+        }
+        ok = fmu_get_float64(f, M->out_vr + out, (size_t)n_out, M->pending_value) == 0;
+        for (b = 0; b < n_out && ok; b++) {
+            const int k = M->out_list[out + b];
+            M->lin_y0[k] = M->pending_value[b];
+            for (a = 0; a < n_in && ok && !M->lin_ready[i]; a++) {
+                double *entry = M->lin_J + M->lin_row[k] + a;
+                ok = fmu_directional_derivative(f, &c[k].source.vr, 1,
+                                                &c[M->lin_in[first + a]].target.vr, 1, &one,
+                                                entry) == 0 && isfinite(*entry);
+            }
+        }
+        M->lin_ready[i] = ok;
+        if (!ok) M->linear[i] = 0; /* its inputs are as sent[] says: set from here on */
+    }
+}
+
+/* A timed instance's constants at the event just settled (t): its derivatives, and for
+   each coupling out of it the source's value and rate (the directional derivative of the
+   output along the derivatives: exact, as the output is affine in the states and free
+   of time). An instance whose reads fail, or with a coupled value of another kind, is
+   evaluated as any other from here on: this saves calls, it decides nothing. */
+static int read_timed(me_master *M, double t)
+{
+    const eng_me_spec *s = M->spec;
+    int i, j, b;
+    for (i = 0; i < M->n && M->any_timed; i++) {
+        const int lo = M->x_off[i], nx = M->x_off[i + 1] - lo;
+        fmu_t *f = M->fmus[i];
+        int ok;
+        if (!M->timed[i]) continue;
+        M->timed_t[i] = t;
+        ok = !nx || fmu_get_derivatives(f, M->timed_dx + lo, (size_t)nx) == 0;
+        for (b = M->out_start[i]; b < M->out_start[i + 1] && ok; b++) {
+            const eng_variable *v = &s->couplings[j = M->out_list[b]].source;
+            M->timed_rate[j] = 0.0;
+            ok = ENG_PLAIN(v) && fmu_get_float64(f, &v->vr, 1, &M->timed_y[j]) == 0 &&
+                 (!nx || fmu_directional_derivative(f, &v->vr, 1, s->instances[i].state_vr,
+                                                    (size_t)nx, M->timed_dx + lo,
+                                                    &M->timed_rate[j]) == 0) &&
+                 isfinite(M->timed_rate[j]);
+        }
+        if (!ok) { /* moved with the others from the next set_point on */
+            M->timed[i] = 0;
+            M->unmoved[i] = M->spec->time_free && M->spec->time_free[i] && nx == 0;
+        }
+    }
+    return M->any_timed && plan_between(M) ? fail(M, "out of memory") : 0;
+}
+
 /* Every instance in event mode (already there when `initial`), discrete updates until
    the instances and the inputs they see settle, then back to continuous time with
    the states re-read into M->x. Event groups flagged in group_changed record their
@@ -875,7 +1101,8 @@ static int event_iteration(me_master *M, double t, int initial)
 {
     int i, it, nc = M->spec->n_couplings;
     if (!initial) {
-        if (set_point(M, t, M->x)) return -1;
+        if (set_point(M, t, M->x) || move_unmoved(M, t, M->x) || settle_linear(M, t, 0))
+            return -1;
         for (i = 0; i < M->n; i++)
             if (fmu_enter_event_mode(M->fmus[i]))
                 return failed(M, i, "entering event mode", t);
@@ -925,7 +1152,8 @@ static int event_iteration(me_master *M, double t, int initial)
                                       (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the continuous states", t);
     }
-    return 0;
+    read_linear(M);
+    return read_timed(M, t);
 }
 
 /* After an event: the indicators at the new point become the crossing reference.
@@ -1187,7 +1415,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
     }
     M->stats->t_end = t;
     /* the instances stand at the point reached: their outputs are read from there */
-    return set_point(M, t, M->x);
+    return set_point(M, t, M->x) || move_unmoved(M, t, M->x) || settle_linear(M, t, 0) ? -1 : 0;
 }
 
 static int integrate(me_master *M)
@@ -1416,6 +1644,88 @@ static int allocate_loops(me_master *M)
     return 0;
 }
 
+/* The linear instances (eng_me_spec.linear_map) that qualify (no states, indicators,
+   and only Float64 scalars coupled to them), and where their coefficients go. */
+static int allocate_linear(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    const int n = M->n, nc = s->n_couplings;
+    int i, k, a;
+    size_t total = 0;
+    M->linear = calloc((size_t)n + 1, sizeof(int));
+    M->lin_in_start = calloc((size_t)n + 1, sizeof(int));
+    M->lin_in = calloc((size_t)nc + 1, sizeof(int));
+    M->lin_row = calloc((size_t)nc + 1, sizeof(int));
+    M->lin_u = zeros(nc);
+    M->lin_u0 = zeros(nc);
+    M->lin_y0 = zeros(nc);
+    M->lin_recorded = calloc((size_t)n + 1, sizeof(int));
+    M->lin_ready = calloc((size_t)n + 1, sizeof(int));
+    M->out_start = calloc((size_t)n + 1, sizeof(int));
+    M->out_list = calloc((size_t)nc + 1, sizeof(int));
+    M->out_vr = calloc((size_t)nc + 1, sizeof(uint32_t));
+    if (!M->linear || !M->lin_recorded || !M->lin_ready || !M->lin_in_start || !M->lin_in ||
+        !M->lin_row || !M->lin_u || !M->lin_u0 || !M->lin_y0 || !M->out_start || !M->out_list ||
+        !M->out_vr)
+        return -1;
+    for (k = 0; k < nc; k++) M->out_start[s->couplings[k].source.instance + 1]++;
+    for (i = 0; i < n; i++) M->out_start[i + 1] += M->out_start[i];
+    for (k = 0; k < nc; k++) { /* by source instance, in coupling order (lin_ready: a cursor) */
+        i = s->couplings[k].source.instance;
+        a = M->out_start[i] + M->lin_ready[i]++;
+        M->out_list[a] = k;
+        M->out_vr[a] = s->couplings[k].source.vr;
+    }
+    memset(M->lin_ready, 0, (size_t)(n + 1) * sizeof(int));
+    for (i = 0; i < n && s->linear_map; i++) {
+        const eng_instance_spec *in = &s->instances[i];
+        M->linear[i] = s->linear_map[i] && in->n_states == 0 && in->n_event_indicators == 0;
+    }
+    for (k = 0; k < nc; k++) { /* scalars of Float64 only */
+        const eng_coupling *c = &s->couplings[k];
+        if (!ENG_PLAIN(&c->source)) M->linear[c->source.instance] = 0;
+        if (!ENG_PLAIN(&c->target)) M->linear[c->target.instance] = 0;
+    }
+    /* a loop's members are set and read by its Newton solve itself (solve_loop), so
+       their FMUs always hold what a linear map would have to track */
+    for (k = 0; k < s->n_loops; k++)
+        for (a = s->loop_first[k]; a < s->loop_first[k] + s->loop_count[k]; a++) {
+            M->linear[s->couplings[a].source.instance] = 0;
+            M->linear[s->couplings[a].target.instance] = 0;
+        }
+    /* the couplings into each, in order (lin_ready: a cursor, cleared after) */
+    for (k = 0; k < nc; k++)
+        if (M->linear[s->couplings[k].target.instance])
+            M->lin_in_start[s->couplings[k].target.instance + 1]++;
+    for (i = 0; i < n; i++) M->lin_in_start[i + 1] += M->lin_in_start[i];
+    for (k = 0; k < nc; k++) {
+        i = s->couplings[k].target.instance;
+        if (M->linear[i]) M->lin_in[M->lin_in_start[i] + M->lin_ready[i]++] = k;
+    }
+    memset(M->lin_ready, 0, (size_t)(n + 1) * sizeof(int));
+    for (k = 0; k < nc; k++) { /* a row per coupling out of one, as wide as its inputs */
+        i = s->couplings[k].source.instance;
+        if (!M->linear[i]) continue;
+        a = M->lin_in_start[i + 1] - M->lin_in_start[i];
+        if (total + (size_t)a > (size_t)1 << 24) { /* bounded: such a member is evaluated */
+            M->linear[i] = 0;
+            continue;
+        }
+        M->lin_row[k] = (int)total;
+        total += (size_t)a;
+    }
+    /* an instance dropped above keeps rows that are never read */
+    M->lin_J = calloc(total + 1, sizeof(double));
+    if (!M->lin_J) return -1;
+    for (i = 0; i < n; i++) M->any_linear = M->any_linear || M->linear[i];
+    for (k = 0; k < s->n_columns; k++) {
+        i = s->columns[k].instance;
+        M->lin_recorded[i] = M->linear[i];
+        M->any_lin_recorded = M->any_lin_recorded || M->linear[i];
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -1450,6 +1760,29 @@ static int allocate(me_master *M)
     M->x_start = zeros(M->n_x);
     M->asleep = calloc((size_t)M->n + 1, sizeof(int));
     M->evaluate_at = calloc((size_t)M->n + 1, sizeof(int));
+    M->timed = calloc((size_t)M->n + 1, sizeof(int));
+    M->unmoved = calloc((size_t)M->n + 1, sizeof(int));
+    M->needed = calloc((size_t)s->n_couplings + 1, sizeof(int));
+    M->timed_t = zeros(M->n);
+    M->timed_dx = zeros(M->n_x);
+    M->timed_y = zeros(s->n_couplings);
+    M->timed_rate = zeros(s->n_couplings);
+    if (!M->timed || !M->unmoved || !M->needed || !M->timed_t || !M->timed_dx || !M->timed_y ||
+        !M->timed_rate)
+        return -1;
+    for (i = 0; i < n && s->time_function; i++) {
+        /* what read_timed needs, and what no step end asks of it */
+        const eng_instance_spec *in = &s->instances[i];
+        M->timed[i] = s->time_function[i] && in->n_event_indicators == 0 &&
+                      in->completed_step_not_needed && (in->n_states == 0 || in->state_vr);
+        M->any_timed = M->any_timed || M->timed[i];
+    }
+    if (allocate_linear(M)) return -1;
+    for (i = 0; i < n; i++) {
+        M->unmoved[i] = M->timed[i] || M->linear[i] ||
+                        (s->time_free && s->time_free[i] && s->instances[i].n_states == 0);
+        M->any_unmoved = M->any_unmoved || M->unmoved[i];
+    }
     M->z_prev = zeros(M->n_z);
     M->z_now = zeros(M->n_z);
     M->z_hit = zeros(M->n_z);
@@ -1505,6 +1838,11 @@ static void release(me_master *M)
     free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->fd2);
     free(M->x_before);
     free(M->x_start); free(M->asleep); free(M->evaluate_at);
+    free(M->timed); free(M->unmoved); free(M->needed);
+    free(M->linear); free(M->lin_recorded); free(M->lin_ready); free(M->lin_in_start);
+    free(M->out_start); free(M->out_list); free(M->out_vr); free(M->lin_in); free(M->lin_row);
+    free(M->lin_u); free(M->lin_u0); free(M->lin_y0); free(M->lin_J);
+    free(M->timed_t); free(M->timed_dx); free(M->timed_y); free(M->timed_rate);
     free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
     free(M->values); free(M->values_new); free(M->row);
     free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
