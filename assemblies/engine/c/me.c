@@ -73,6 +73,7 @@ typedef struct {
     eng_loop *loops;      /* per algebraic loop: its Newton solver and last solution */
     int n_loops;
     int *loop_of;         /* per coupling: its loop, -1 */
+    int direct;           /* couple() reads and sets every FMU (propagate) */
     int *loop_dd;         /* per loop: its sources give directional derivatives */
     int *members;         /* 0 .. n_couplings - 1: a loop's couplings for eng_loop_matrix_dd */
     int loop_min_steps;   /* Newton steps a loop takes even when it already converges */
@@ -265,8 +266,13 @@ static int propagate(me_master *M, double *values, double t)
         return eng_propagate(M->fmus, M->spec->couplings, nc, values, &bad)
                    ? failed(M, bad, "evaluating the couplings", t) : 0;
     forget_loop_matrices(M);
+    /* as eng_propagate: every FMU read and set, none taken from time or a linear map
+       (their values at the last event are what this refreshes) */
     M->loop_min_steps = 0;
+    M->direct = 1;
+    M->sent_valid = 0;
     rc = couple(M, &M->all, t);
+    M->direct = 0;
     M->loop_min_steps = 1;
     if (rc) return -1;
     if (nc) memcpy(values, M->sent, (size_t)nc * sizeof(double));
@@ -332,11 +338,11 @@ static int couple(me_master *M, const coupling_plan *P, double t)
         for (p = k; p <= end; p = P->run_end[p] + 1) {
             const eng_variable *source = &c[P->live[p]].source;
             int rc;
-            if (M->timed[source->instance]) {
+            if (M->timed[source->instance] && !M->direct) {
                 timed_values(M, P, p, t);
                 continue;
             }
-            if (M->linear[source->instance]) {
+            if (M->linear[source->instance] && !M->direct) {
                 linear_values(M, P, p);
                 continue;
             }
@@ -351,7 +357,7 @@ static int couple(me_master *M, const coupling_plan *P, double t)
             p = P->write_order[w];
             j = P->live[p];
             v = c[j].gain * M->read[p];
-            if (M->linear[c[j].target.instance]) { /* its FMU is set at events only */
+            if (M->linear[c[j].target.instance] && !M->direct) { /* set at events only */
                 M->lin_u[j] = v;
                 continue;
             }
