@@ -54,8 +54,8 @@ from ..foreign import FMU, check_mode
 from ..inputs import with_inputs
 from ..result import Result, Table
 from .adaptive import COAST_STEPS, StepController
-from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
-                     locate_start_event, probe_step)
+from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
+                     fires_at_start, locate_start_event, probe_step)
 from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, is_held,
                             step_mean)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
@@ -389,6 +389,13 @@ class _Master:
             value = self._get(*self.couplings[i].target)
             points = [p for p in self.history[i] if p[0] < t - 1e-12 * max(1.0, abs(t))]
             self.history[i] = (points + [(t, value)])[-3:]
+
+    def restart_history(self) -> None:
+        """Keep only the last point of each held input's history: after an event its
+        values before are another branch, and a polynomial through both extrapolates
+        the jump."""
+        for i in self.held:
+            self.history[i] = self.history[i][-1:]
 
     def _held_value(self, i: int, t: float, h: float, t_source: float, now: float) -> float:
         """The constant for held input `i` over [t, t + h]; `now` is its source's value at
@@ -826,19 +833,47 @@ class _Stepper:
                 m.hold_raw = True
                 return False
         if self.prev is None:  # at the start of the run: nothing to go back into
-            self.located_at = t
             m.restore(self.snap)
-            return False
-        t_event = locate_start_event(m, self.prev, self.h_prev, which)
+            t_event = t
+        else:
+            t_event = locate_start_event(m, self.prev, self.h_prev, which)
+            self.h_prev = t_event - self.prev.t
         self.located_at = self.t = t_event
+        self._settle()  # the modes change there, before the next step
         self.coast = 0
-        self.h_prev = t_event - self.prev.t
-        # rows sampled after the event's new time are sampled again
+        # rows sampled after the event's new time are sampled again, from where it
+        # settled (past them, or at them to round-off): a row after an event shows the
+        # modes after it
         k = len(self.rows) - 1
-        while k > 0 and self.out_times[k - 1] > t_event + 1e-12 * max(1.0, abs(t_event)):
+        while k > 0 and self.out_times[k - 1] > t_event:
             k -= 1
         del self.rows[k + 1:]
         return True
+
+    def _settle(self) -> None:
+        """Let the modes change at an event at the start of the step from self.t, and
+        the loops settle with them: steps of probe length, each followed by
+        consistency, until one in which no FMU fires at its start (cosim.c settle
+        says why); each is a step of the run. The held inputs' history restarts at
+        the settled point."""
+        m = self.master
+        held_raw, m.hold_raw = m.hold_raw, True
+        try:
+            for _ in range(MAX_SETTLE_STEPS):
+                h = probe_step(self.t)
+                m.discard(self.prev)
+                self.prev = m.save(self.t)
+                m.step(self.t, h)
+                self.h_prev = h
+                if m.terminated is not None:
+                    self.t = m.terminated["time"]
+                    break
+                self.t += h
+                if not events_at_start(m):
+                    break
+        finally:
+            m.hold_raw = held_raw
+        m.restart_history()
 
     def _judge(self, h_try: float) -> tuple[bool, float]:
         """Step doubling on the step of `h_try` just taken: redone as two halves, kept

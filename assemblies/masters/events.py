@@ -31,6 +31,11 @@ if TYPE_CHECKING:  # only for the annotations: cosim imports this module
 EVENT_TOL = 1e-10
 
 
+# settle steps after an event at a communication point: a cascade needs one per FMU
+# whose mode change moves another's inputs across its condition (cosim.c MAX_SETTLE_STEPS)
+MAX_SETTLE_STEPS = 16
+
+
 def probe_step(t: float) -> float:
     """The step a probe takes to see whether an event fires at its start: the FMU
     handles such an event before it integrates, so any length it accepts will do."""
@@ -101,5 +106,5 @@ def locate_start_event(master: _Master, prev: _Snapshot, h_prev: float, which: s
     return t0 + hi
 
 
-__all__ = ["EVENT_TOL", "earliest_event_in_step", "events_at_start", "fires_at_start",
+__all__ = ["EVENT_TOL", "MAX_SETTLE_STEPS", "earliest_event_in_step", "events_at_start", "fires_at_start",
            "locate_start_event", "probe_step"]

@@ -701,6 +701,50 @@ static int locate_start_event(cosim *c, const snapshot *prev, double h_prev, con
     return 0;
 }
 
+/* Settle steps after an event at a communication point (MAX_SETTLE_STEPS): a cascade
+   needs one per FMU whose mode change moves another's inputs across its condition. */
+#define MAX_SETTLE_STEPS 16
+
+/* An event fires at the start of the step from c->t: an input set there crossed a
+   switching condition (a locked clutch whose normal force drops to 0). Our FMUs are Co-
+   Simulation without Event Mode (FMI 2 has none; ours declare hasEventMode = false), so
+   a member changes its mode only at the start of a doStep, after the master made every
+   input consistent with the outputs of the old modes: the coupled step that follows
+   would take the loop's values of the locked clutch (its torque on the driver, the
+   driver's acceleration of the pair) over its whole length. Instead the master lets the
+   modes settle first, as an event iteration across the FMUs: steps of probe length,
+   each followed by consistent() (the loops solved with the new modes), until one in
+   which no member fires at its start. Each is a step of the run (snap[1] and h_prev
+   are its start, where a later start event may move back to); the sources are held
+   (no extrapolation over a probe), and the held inputs' history restarts at the
+   settled point: a polynomial through values from before the event extrapolates
+   their jump across the next step. */
+static int settle(cosim *c)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int n, k, fired = 1, held_raw = c->hold_raw;
+    c->hold_raw = 1;
+    for (n = 0; n < MAX_SETTLE_STEPS && fired && !c->terminated; n++) {
+        double h = probe_step(c->t);
+        if (save(c, &c->snap[1], c->t) || step(c, c->t, h)) {
+            c->hold_raw = held_raw;
+            return -1;
+        }
+        fired = any_event_at_start(c);
+        c->h_prev = h;
+        c->have_prev = 1;
+        c->t = c->terminated ? c->terminated_time : c->t + h;
+    }
+    c->hold_raw = held_raw;
+    for (k = 0; k < g->n_couplings; k++) {
+        if (!g->held[k] || c->hist_n[k] < 1) continue;
+        c->hist_t[k * HISTORY] = c->hist_t[k * HISTORY + c->hist_n[k] - 1];
+        c->hist_v[k * HISTORY] = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
+        c->hist_n[k] = 1;
+    }
+    return 0;
+}
+
 /* ---------------------------------------------------------------------------- */
 /* the run                                                                        */
 
@@ -931,16 +975,17 @@ static int one_step(cosim *c, double target)
                 }
             }
             if (!c->have_prev) { /* nothing to go back into: the event stays at t */
-                c->located_at = t;
                 if (restore(c, &c->snap[0])) return -1;
-                continue;
+                t_event = t;
+            } else {
+                if (locate_start_event(c, &c->snap[1], c->h_prev, c->which, &t_event)) return -1;
+                c->h_prev = t_event - c->snap[1].t;
             }
-            if (locate_start_event(c, &c->snap[1], c->h_prev, c->which, &t_event)) return -1;
             c->located_at = c->t = t_event;
-            c->h_prev = t_event - c->snap[1].t;
+            if (settle(c)) return -1; /* the modes change there, before the next step */
             c->hold_raw = 0;
             c->coast = 0;
-            return 1; /* the next step starts at the located event */
+            return 1; /* the next step starts where the event settled */
         }
         te = earliest_event_in_step(c);
         if (!at_event && te - t > g->event_tol && te < t + h_try) {
@@ -1105,8 +1150,10 @@ static int run(cosim *c, eng_progress *progress)
             return fail(c, "co-simulation: %s", why);
         moved = one_step(c, target);
         if (moved < 0) return -1;
-        if (moved) { /* rows sampled after the event's new time are sampled again */
-            while (k > 0 && out_times[k - 1] > c->t + 1e-12 * fmax(1.0, fabs(c->t))) k--;
+        if (moved) { /* rows sampled after the event's new time are sampled again, from
+                        where it settled (past them, or at them to round-off): a row
+                        after an event shows the modes after it */
+            while (k > 0 && out_times[k - 1] > c->located_at) k--;
             c->run_stats->n_rows = k + 1;
         } else if (g->derivatives && g->rest_group && !c->terminated) {
             int rest = fall_asleep(c);
