@@ -390,12 +390,18 @@ class _Master:
             points = [p for p in self.history[i] if p[0] < t - 1e-12 * max(1.0, abs(t))]
             self.history[i] = (points + [(t, value)])[-3:]
 
-    def restart_history(self) -> None:
-        """Keep only the last point of each held input's history: after an event its
+    def held_inputs(self) -> dict[int, float]:
+        return {i: self._get(*self.couplings[i].target) for i in self.held}
+
+    def restart_history(self, before: dict[int, float]) -> None:
+        """Keep only the last point of the history of each held input that moved from
+        `before` by more than the tolerance relative to its value (cosim.c settle): its
         values before are another branch, and a polynomial through both extrapolates
         the jump."""
-        for i in self.held:
-            self.history[i] = self.history[i][-1:]
+        for i, was in before.items():
+            now = self._get(*self.couplings[i].target)
+            if abs(now - was) > self.defect_tol * (1.0 + abs(now)):
+                self.history[i] = self.history[i][-1:]
 
     def _held_value(self, i: int, t: float, h: float, t_source: float, now: float) -> float:
         """The constant for held input `i` over [t, t + h]; `now` is its source's value at
@@ -854,9 +860,10 @@ class _Stepper:
         """Let the modes change at an event at the start of the step from self.t, and
         the loops settle with them: steps of probe length, each followed by
         consistency, until one in which no FMU fires at its start (cosim.c settle
-        says why); each is a step of the run. The held inputs' history restarts at
-        the settled point."""
+        says why); each is a step of the run. A held input that jumped meanwhile
+        restarts its history at the settled point."""
         m = self.master
+        before = m.held_inputs()
         held_raw, m.hold_raw = m.hold_raw, True
         try:
             for _ in range(MAX_SETTLE_STEPS):
@@ -873,7 +880,7 @@ class _Stepper:
                     break
         finally:
             m.hold_raw = held_raw
-        m.restart_history()
+        m.restart_history(before)
 
     def _judge(self, h_try: float) -> tuple[bool, float]:
         """Step doubling on the step of `h_try` just taken: redone as two halves, kept
