@@ -715,6 +715,9 @@ class _Stepper:
         # the next step by design, and is not to be moved back again
         self.located_at = -math.inf
         self.coast, self.h_coast = 0, 0.0  # unjudged steps left, and their length
+        # settling the modes after an event was cut at an output point (_settle), and
+        # the held inputs where it began
+        self.unsettled, self.settle_from = False, {}
         self.shortened = False  # the last step was shortened to end at an event in it
         self.steps = 0
         self.events_synchronised = 0
@@ -756,10 +759,15 @@ class _Stepper:
         m = self.master
         coasting = self.adaptive and self.coast > 0  # COAST_STEPS (adaptive.py)
         h_try = self._trial_length(target, self.h_coast if coasting else self.h)
+        if self.unsettled:  # settling was cut at an output point: it goes on from here
+            self._settle(target)
+            self.coast = 0
+            self._resample_after(self.located_at)
+            return
         if self.rollback:
             m.discard(self.snap)
             self.snap = m.save(self.t)
-        h_try = self._step_to_first_event(h_try)
+        h_try = self._step_to_first_event(h_try, target)
         if h_try is None:  # the run went back to a start event inside the previous step
             m.hold_raw = False
             return
@@ -797,7 +805,7 @@ class _Stepper:
             h_try = target - self.t
         return h_try
 
-    def _step_to_first_event(self, h_try: float) -> float | None:
+    def _step_to_first_event(self, h_try: float, target: float) -> float | None:
         """The step from self.t, shortened to end at the first event inside it; its
         length, or None where an event at its start was moved back into the step
         before (self.t is then that event's time)."""
@@ -809,7 +817,7 @@ class _Stepper:
                 return h_try
             which = events_at_start(m)
             if which and t > self.located_at:
-                if self._start_event(which):
+                if self._start_event(which, target):
                     return None
                 continue  # the step again, from the state restored there
             te = earliest_event_in_step(m)
@@ -825,7 +833,7 @@ class _Stepper:
                 continue
             return h_try
 
-    def _start_event(self, which: set[str]) -> bool:
+    def _start_event(self, which: set[str], target: float) -> bool:
         """An event fired at the start of the step from self.t, in the instances
         `which`: move it back to where it first fires in the previous step (True: the
         run is there now), or restore the step's start to retake it (False)."""
@@ -845,42 +853,55 @@ class _Stepper:
             t_event = locate_start_event(m, self.prev, self.h_prev, which)
             self.h_prev = t_event - self.prev.t
         self.located_at = self.t = t_event
-        self._settle()  # the modes change there, before the next step
+        self._settle(target)  # the modes change there, before the next step
         self.coast = 0
-        # rows sampled after the event's new time are sampled again, from where it
-        # settled (past them, or at them to round-off): a row after an event shows the
-        # modes after it
+        self._resample_after(t_event)
+        return True
+
+    def _resample_after(self, t_event: float) -> None:
+        """Rows sampled after the event's time are sampled again, from where it settled
+        (past them, or at them to round-off): a row after an event shows the modes
+        after it."""
         k = len(self.rows) - 1
         while k > 0 and self.out_times[k - 1] > t_event:
             k -= 1
         del self.rows[k + 1:]
-        return True
 
-    def _settle(self) -> None:
+    def _settle(self, target: float) -> None:
         """Let the modes change at an event at the start of the step from self.t, and
         the loops settle with them: steps of probe length, each followed by
         consistency, until one in which no FMU fires at its start (cosim.c settle
-        says why); each is a step of the run. A held input that jumped meanwhile
-        restarts its history at the settled point."""
+        says why); each is a step of the run. They never pass `target`: settling cut
+        there goes on from there (self.unsettled). Settled, a held input that jumped
+        meanwhile restarts its history (_Master.restart_history)."""
         m = self.master
-        before = m.held_inputs()
+        if not self.unsettled:
+            self.settle_from = m.held_inputs()
+        self.unsettled = True
         held_raw, m.hold_raw = m.hold_raw, True
+        settled, n = False, 0
         try:
-            for _ in range(MAX_SETTLE_STEPS):
-                h = probe_step(self.t)
+            while n < MAX_SETTLE_STEPS:
+                h = min(probe_step(self.t), target - self.t)
+                if not (h > 0.0 and self.t + h > self.t):
+                    break  # at the output point: the next step goes on
+                n += 1
                 m.discard(self.prev)
                 self.prev = m.save(self.t)
                 m.step(self.t, h)
                 self.h_prev = h
                 if m.terminated is not None:
                     self.t = m.terminated["time"]
-                    break
-                self.t += h
-                if not events_at_start(m):
+                else:
+                    self.t = target if h == target - self.t else self.t + h
+                if m.terminated is not None or not events_at_start(m):
+                    settled = True
                     break
         finally:
             m.hold_raw = held_raw
-        m.restart_history(before)
+        if settled or n == MAX_SETTLE_STEPS:
+            self.unsettled = False
+            m.restart_history(self.settle_from)
 
     def _judge(self, h_try: float) -> tuple[bool, float]:
         """Step doubling on the step of `h_try` just taken: redone as two halves, kept

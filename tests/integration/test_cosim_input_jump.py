@@ -15,7 +15,9 @@ T, in both masters.
 import numpy as np
 import pytest
 
-from assemblies import Assembly
+from fmpy import simulate_fmu
+
+from assemblies import Assembly, export_fmu
 from assemblies.engine.cosim import DEFAULT_SCHEME, cosimulate
 from assemblies.masters.cosim import cosimulate as reference_cosimulate
 from components.rotational.friction import Clutch
@@ -63,3 +65,19 @@ def test_a_locked_clutch_whose_normal_force_drops_at_a_communication_point_relea
     w_out = np.where(t < T, TAU0 * t / (J_IN + J), w_t)
     assert np.abs(np.asarray(res["inertiaIn.w"]) - w_in).max() < acc * max(1.0, w_in.max())
     assert np.abs(np.asarray(res["clutch.w"]) - w_out).max() < acc
+
+
+def test_an_assembly_fmu_releases_the_clutch_at_the_end_of_a_dostep(tmp_path):
+    """Exported as one FMU and stepped by fmpy in doSteps of 0.01 s, the release falls on
+    a doStep's end: the modes settle without passing it (each doStep ends where fmpy asked)
+    and the rows after it show the free clutch, with the closed form's speeds."""
+    path = export_fmu(_assembly(), tmp_path / "released.fmu", fmi=3,
+                      outputs=["clutch.mode", "clutch.w", "inertiaIn.w"], stop_time=STOP,
+                      step=0.01, tolerance=TOL)
+    res = simulate_fmu(str(path), stop_time=STOP, output_interval=0.01)
+    acc = 100 * max(TOL, DEFAULT_SCHEME["tol"])
+    t, mode = res["time"], res["clutch.mode"]
+    assert np.all(mode[t < T - 1e-9] == 0) and np.all(mode[t > T + 1e-9] != 0)
+    w_t = TAU0 * T / (J_IN + J)
+    assert abs(res["inertiaIn.w"][-1] - (w_t + TAU0 * (STOP - T) / J_IN)) < acc * 2
+    assert abs(res["clutch.w"][-1] - w_t) < acc

@@ -88,6 +88,7 @@ struct cosim {
     double *state, *coarse;   /* state vectors for the error estimate */
     double *predicted;        /* chained inputs: where the FMU's Taylor chain ends a step */
     double *settle_u;         /* the inputs where an event's modes began to settle */
+    int unsettled;            /* settling was cut at an output point: it goes on from there */
     int *chain_order;         /* chained inputs: 1 + the chain's length below them */
     double defect;            /* the last step's worst chain defect over its allowance */
     int defect_order;         /* ... and the order of that chain's defect in the step */
@@ -706,41 +707,17 @@ static int locate_start_event(cosim *c, const snapshot *prev, double h_prev, con
    needs one per FMU whose mode change moves another's inputs across its condition. */
 #define MAX_SETTLE_STEPS 16
 
-/* An event fires at the start of the step from c->t: an input set there crossed a
-   switching condition (a locked clutch whose normal force drops to 0). Our FMUs are Co-
-   Simulation without Event Mode (FMI 2 has none; ours declare hasEventMode = false), so
-   a member changes its mode only at the start of a doStep, after the master made every
-   input consistent with the outputs of the old modes: the coupled step that follows
-   would take the loop's values of the locked clutch (its torque on the driver, the
-   driver's acceleration of the pair) over its whole length. Instead the master lets the
-   modes settle first, as an event iteration across the FMUs: steps of probe length,
-   each followed by consistent() (the loops solved with the new modes), until one in
-   which no member fires at its start. Each is a step of the run (snap[1] and h_prev
-   are its start, where a later start event may move back to); the sources are held
-   (no extrapolation over a probe). A held input that jumped meanwhile (by more than
-   tol relative to its value: a smooth one moves by its rate times a few probes)
-   restarts its history at the settled point: a polynomial through values from before
-   the jump extrapolates it across the next step. One that did not keeps its history
-   (restarting a ramp's cost test_rotational_friction's break-away 1e-3 in w: held
-   constant over the next fixed step). */
-static int settle(cosim *c)
+/* After settling: a held input that jumped while the modes settled (by more than tol
+   relative to its value; a smooth one moves by its rate times a few probes) restarts
+   its history at the settled point, as a polynomial through values from before the
+   jump extrapolates it across the next step. One that did not keeps its history:
+   restarting a ramp held it constant over the next fixed step after a break-away
+   (test_rotational_friction, w off by 1e-3). */
+static void restart_jumped_history(cosim *c)
 {
     const eng_cosim_spec *g = c->cfg;
-    int n, k, fired = 1, held_raw = c->hold_raw;
-    for (k = 0; k < g->n_couplings; k++) c->settle_u[k] = c->u[k];
-    c->hold_raw = 1;
-    for (n = 0; n < MAX_SETTLE_STEPS && fired && !c->terminated; n++) {
-        double h = probe_step(c->t);
-        if (save(c, &c->snap[1], c->t) || step(c, c->t, h)) {
-            c->hold_raw = held_raw;
-            return -1;
-        }
-        fired = any_event_at_start(c);
-        c->h_prev = h;
-        c->have_prev = 1;
-        c->t = c->terminated ? c->terminated_time : c->t + h;
-    }
-    c->hold_raw = held_raw;
+    int k;
+    c->unsettled = 0;
     for (k = 0; k < g->n_couplings; k++) {
         if (!g->held[k] || c->hist_n[k] < 1
             || !(fabs(c->u[k] - c->settle_u[k]) > g->tol * (1.0 + fabs(c->u[k]))))
@@ -749,6 +726,47 @@ static int settle(cosim *c)
         c->hist_v[k * HISTORY] = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
         c->hist_n[k] = 1;
     }
+}
+
+/* An event fires at the start of the step from c->t: an input set there crossed a
+   switching condition (a locked clutch whose normal force drops to 0). Our FMUs are Co-
+   Simulation without Event Mode (FMI 2 has none; ours declare hasEventMode = false), so
+   a member changes its mode only at the start of a doStep, after the master made every
+   input consistent with the outputs of the old modes: the coupled step that follows
+   would take the loop's values of the locked clutch (its torque on the driver, the
+   driver's acceleration of the pair) over its whole length, and a row at the event the
+   old modes. Instead the master lets the modes settle first, as an event iteration
+   across the FMUs: steps of probe length, each followed by consistent() (the loops
+   solved with the new modes), until one in which no member fires at its start. Each is
+   a step of the run (snap[1] and h_prev are its start, where a later start event may
+   move back to), holding the sources (no extrapolation over a probe). The settle steps
+   never pass `target` (an assembly FMU's doStep ends there exactly): one cut there
+   leaves c->unsettled, and the next step from there goes on settling. */
+static int settle(cosim *c, double target)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int n, k, settled = 0, held_raw = c->hold_raw;
+    if (!c->unsettled)
+        for (k = 0; k < g->n_couplings; k++) c->settle_u[k] = c->u[k];
+    c->unsettled = 1;
+    c->hold_raw = 1;
+    for (n = 0; n < MAX_SETTLE_STEPS; n++) {
+        double h = fmin(probe_step(c->t), target - c->t);
+        if (!(h > 0.0 && c->t + h > c->t)) break; /* at `target`: the next step goes on */
+        if (save(c, &c->snap[1], c->t) || step(c, c->t, h)) {
+            c->hold_raw = held_raw;
+            return -1;
+        }
+        c->h_prev = h;
+        c->have_prev = 1;
+        c->t = c->terminated ? c->terminated_time : h == target - c->t ? target : c->t + h;
+        if (c->terminated || !any_event_at_start(c)) {
+            settled = 1;
+            break;
+        }
+    }
+    c->hold_raw = held_raw;
+    if (settled || n == MAX_SETTLE_STEPS) restart_jumped_history(c);
     return 0;
 }
 
@@ -928,6 +946,7 @@ static void start_stepping(cosim *c, double t0, double horizon)
     c->t = t0;
     c->h_prev = 0.0;
     c->located_at = -INFINITY;
+    c->unsettled = 0;
     c->have_prev = 0;
     c->ctl.tol = g->tol;
     c->ctl.horizon = horizon;
@@ -961,6 +980,11 @@ static int one_step(cosim *c, double target)
         return fail(c, "a step of %g s cannot move time from t = %.17g (below its resolution "
                     "there)", h_try, t);
 
+    if (c->unsettled) { /* settling was cut at an output point: it goes on from here */
+        if (settle(c, target)) return -1;
+        c->coast = 0;
+        return 1;
+    }
     if (rollback && save(c, &c->snap[0], t)) return -1;
     for (;;) { /* the (coarse) step, shortened to end at the first event inside it */
         double te;
@@ -990,7 +1014,7 @@ static int one_step(cosim *c, double target)
                 c->h_prev = t_event - c->snap[1].t;
             }
             c->located_at = c->t = t_event;
-            if (settle(c)) return -1; /* the modes change there, before the next step */
+            if (settle(c, target)) return -1; /* the modes change there, before the next step */
             c->hold_raw = 0;
             c->coast = 0;
             return 1; /* the next step starts where the event settled */
@@ -1335,6 +1359,8 @@ int eng_cosim_advance(eng_cosim *m, double target)
                     return m->stats.status = ENG_FAILED;
                 c->located_at = c->t = t_event;
                 c->h_prev = t_event - c->snap[1].t;
+                /* the modes change there (up to `target`; the next call goes on) */
+                if (settle(c, target)) return m->stats.status = ENG_FAILED;
                 continue;
             }
         }
