@@ -760,10 +760,15 @@ class _Stepper:
         coasting = self.adaptive and self.coast > 0  # COAST_STEPS (adaptive.py)
         h_try = self._trial_length(target, self.h_coast if coasting else self.h)
         if self.unsettled:  # settling was cut at an output point: it goes on from here
+            t = self.t
             self._settle(target)
-            self.coast = 0
-            self._resample_after(self.located_at)
-            return
+            if self.t > t:
+                self.coast = 0
+                self._resample_after(self.located_at)
+                return
+            # no room for a settle step before target: step on
+            self.unsettled = False
+            m.restart_history(self.settle_from)
         if self.rollback:
             m.discard(self.snap)
             self.snap = m.save(self.t)

@@ -982,8 +982,11 @@ static int one_step(cosim *c, double target)
 
     if (c->unsettled) { /* settling was cut at an output point: it goes on from here */
         if (settle(c, target)) return -1;
-        c->coast = 0;
-        return 1;
+        if (c->t > t) {
+            c->coast = 0;
+            return 1;
+        }
+        restart_jumped_history(c); /* no room for a settle step before `target`: step on */
     }
     if (rollback && save(c, &c->snap[0], t)) return -1;
     for (;;) { /* the (coarse) step, shortened to end at the first event inside it */
