@@ -534,7 +534,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     (None: on exactly when `adaptive`, as in the compiled engine): steps end at the
     events the FMUs locate, and events the FMUs handle at a communication point are
     moved back to where the coupled system crossed (to ``EVENT_TOL``,
-    :mod:`assemblies.masters.events`). Adaptive steps and event synchronisation roll
+    :mod:`assemblies.masters.events`), where the FMUs' modes settle before the next step
+    (probe-length steps until none fires at its start: a clutch released by an input
+    jump leaves its stick, and the loops are solved with it free). Adaptive steps and event synchronisation roll
     back through FMU state; where an FMU cannot get and set its state (a foreign one,
     say), or a foreign FMU's restore proves inexact when checked before the run
     (:func:`_restore_problem`; ``settings["inexact_restore"]``), the run falls back to
@@ -864,11 +866,11 @@ class _Stepper:
         return True
 
     def _resample_after(self, t_event: float) -> None:
-        """Rows sampled after the event's time are sampled again, from where it settled
-        (past them, or at them to round-off): a row after an event shows the modes
-        after it."""
+        """Rows sampled at or after the event's time are sampled again, from where it
+        settled (past them, or at them to round-off): a row at or after an event shows
+        the modes after it."""
         k = len(self.rows) - 1
-        while k > 0 and self.out_times[k - 1] > t_event:
+        while k > 0 and self.out_times[k - 1] >= t_event:
             k -= 1
         del self.rows[k + 1:]
 

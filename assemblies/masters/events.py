@@ -12,7 +12,9 @@ each through FMI 3 intermediate update. Two kinds matter to the master:
   passed the static friction limit during the previous step). The coupled system
   crossed somewhere in that previous step; bisecting it through rollback (retake it
   shorter, then a tiny probe step, undone, asks whether the event fires) finds the
-  earliest point where it does, to `EVENT_TOL`.
+  earliest point where it does, to `EVENT_TOL`. There the FMUs' modes settle before
+  the next step (:meth:`assemblies.masters.cosim._Stepper._settle`): the FMU changes
+  its mode only in a doStep, after the master set inputs from the old modes' outputs.
 
 This is the scheme of the compiled engine (``assemblies/engine/c/cosim.c``:
 ``earliest_event_in_step``, ``fires_at_start``, ``locate_start_event``); the time
@@ -97,7 +99,9 @@ def locate_start_event(master: _Master, prev: _Snapshot, h_prev: float, which: s
                 hi = m
             else:
                 lo = m
-        # the step to the first point known to fire: the next step handles the event there
+        # the step to the first point known to fire, taking the inputs as any step does
+        # (cosim.c locate_start_event says why): the event settles there
+        master.hold_raw = held_raw
         master.restore(prev)
         master.step(t0, hi)
     finally:

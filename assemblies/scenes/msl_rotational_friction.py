@@ -29,9 +29,9 @@ speeds, held to the event-driven reference of :mod:`.msl_rotational_friction_ref
 (written from MSL's documented equations; event times to ~1e-10 s) with the solver's
 accuracy (100 x tolerance, scene.solver_accuracy; co-simulated, the coupling's); and the energy balance (work of the
 motor + initial kinetic energy = kinetic + elastic + dissipated) within DRIFT x tolerance
-of the energy involved. The changes are counted as that accuracy resolves them
-(:func:`resolved`): OneWayClutch's w_rel touches 0 at 1.5 s with zero relative
-acceleration, a lock and release a method sees or not by its rounding.
+of the energy involved. The modes are read that accuracy away from each event:
+OneWayClutch's w_rel touches 0 at 1.5 s with zero relative acceleration, a lock and
+release a method sees or not by its rounding.
 """
 from __future__ import annotations
 
@@ -104,32 +104,18 @@ def _one_way_clutch() -> Assembly:
     return asm
 
 
-def resolved(changes, width: float) -> list[tuple[float, int]]:
-    """The (time, mode) changes as a method whose event times hold to `width` can tell
-    them: a change undone within `width` (a lock and a release, both within the time
-    accuracy of each other) is a touch, and neither counts. OneWayClutch's inertiaIn
-    comes back to inertiaOut's speed exactly at 1.5 s, one period of the motor torque
-    after inertiaOut overran it, and with zero acceleration there (w_rel touches 0:
-    1.6e-14 in the reference): whether a method sees a lock there is its rounding."""
-    out = []
-    for t, q in changes:
-        if len(out) >= 2 and t - out[-1][0] < width and q == out[-2][1]:
-            out.pop()  # back to the mode before the last change: a touch
-        else:
-            out.append((t, q))
-    return out
-
-
 def _event_figures(result, ref_events, contacts, engaged_only, triggers=()) -> list[Figure]:
     """One figure for the count of each contact's mode changes, one per change; the
-    changes of both the run and the reference as the events' accuracy resolves them."""
+    modes read from rows the events' accuracy away from each event (mode_changes'
+    `away`: OneWayClutch's w_rel touches 0 at 1.5 s with zero relative acceleration,
+    a lock and release that a method sees or not by its rounding)."""
     figures = []
     kinds = {0: "locks", 1: "slides forward", -1: "slides backward"}
     width = coupling_accuracy(result, 1.0)
     for k, name in enumerate(contacts):
-        expected = resolved([(t, q) for t, c, q in ref_events if c == k], width)
-        measured = resolved(mode_changes(result, name, engaged_only=engaged_only,
-                                         triggers=triggers), width)
+        expected = [(t, q) for t, c, q in ref_events if c == k]
+        measured = mode_changes(result, name, engaged_only=engaged_only, triggers=triggers,
+                                away=width)
         figures.append(Figure(f"{name}_events", f"stick/slip changes of {name} [1]",
                               len(measured), len(expected), 0.0, source=SOURCE))
         for n, (t_ref, q_ref) in enumerate(expected):

@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from assemblies import AssemblyError, run_scene
-from assemblies.scenes.msl_rotational_friction import resolved
 from assemblies.scenes.msl_rotational_friction_references import Friction, OneWayClutchExample
 
 
@@ -46,16 +45,6 @@ def test_one_way_clutch_co_simulated_meets_every_figure_to_the_coupling_accuracy
     assert figures["oneWayClutch_4"].reference == pytest.approx(0.95)
     assert figures["oneWayClutch_4"].accuracy == pytest.approx(100 * 1e-5)
     assert all(f.passed for f in res.figures), [f for f in res.figures if not f.passed]
-
-
-def test_a_touch_within_the_events_accuracy_is_no_change():
-    """A lock undone within the events' accuracy is a touch (OneWayClutch at 1.5 s);
-    a lock that lasts longer, or a change to another mode, counts."""
-    touch = [(0.1, 1), (1.4999999, 0), (1.5000001, 1), (1.7, 0)]
-    assert resolved(touch, 1e-3) == [(0.1, 1), (1.7, 0)]
-    assert resolved(touch, 1e-8) == touch
-    assert resolved([(0.1, 1), (0.2, 0), (0.2000001, -1)], 1e-3) == \
-        [(0.1, 1), (0.2, 0), (0.2000001, -1)]
 
 
 @pytest.mark.parametrize("name, loop", [

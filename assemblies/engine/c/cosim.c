@@ -695,6 +695,10 @@ static int locate_start_event(cosim *c, const snapshot *prev, double h_prev, con
         if (fires) hi = m;
         else lo = m;
     }
+    /* the step kept, up to the first point known to fire, takes the inputs as any step
+       does: held at t0's values over it (up to the step before, a full one), their
+       error was never judged; CoupledClutches' J1.w took 7e-5 rad/s from it at 0.4 s */
+    c->hold_raw = held_raw;
     if (!status && (restore(c, prev) || step(c, t0, hi))) status = -1;
     c->hold_raw = held_raw;
     if (status) return -1;
@@ -1185,10 +1189,10 @@ static int run(cosim *c, eng_progress *progress)
             return fail(c, "co-simulation: %s", why);
         moved = one_step(c, target);
         if (moved < 0) return -1;
-        if (moved) { /* rows sampled after the event's new time are sampled again, from
-                        where it settled (past them, or at them to round-off): a row
-                        after an event shows the modes after it */
-            while (k > 0 && out_times[k - 1] > c->located_at) k--;
+        if (moved) { /* rows sampled at or after the event's new time are sampled again,
+                        from where it settled (past them, or at them to round-off): a
+                        row at or after an event shows the modes after it */
+            while (k > 0 && out_times[k - 1] >= c->located_at) k--;
             c->run_stats->n_rows = k + 1;
         } else if (g->derivatives && g->rest_group && !c->terminated) {
             int rest = fall_asleep(c);
