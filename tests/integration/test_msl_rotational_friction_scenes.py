@@ -40,6 +40,13 @@ def test_one_way_clutch_co_simulated_meets_every_figure_to_the_coupling_accuracy
     seen there, and every lock and overrun, final state and the energy balance meet
     the coupling's accuracy (100 x 1e-5)."""
     res = run_scene("rotational_one_way_clutch", mode="cosim", engine=engine, plot=False)
+    # MSL's law in every row: forward, the clutch carries at most peak cgeo mu(0) fn (0
+    # once the pulse has ended; the freewheel holds any backward torque)
+    m = OneWayClutchExample()
+    tau, fn = np.asarray(res["oneWayClutch.tau"]), np.asarray(res["oneWayClutch.fn"])
+    limit = m.peak * 0.5 * fn  # mu_pos = [0, 0.5], cgeo = 1
+    assert np.all(tau <= limit + 1e-9), [(t, a, b) for t, a, b in
+                                         zip(np.asarray(res["time"]), tau, limit) if a > b + 1e-9]
     figures = {f.name: f for f in res.figures}
     assert figures["oneWayClutch_4"].description.startswith("oneWayClutch slides forward")
     assert figures["oneWayClutch_4"].reference == pytest.approx(0.95)
