@@ -156,7 +156,8 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     Same arguments and result as :func:`assemblies.masters.cosim.cosimulate` (see
     there), plus `event_sync` (None: on exactly when `adaptive`): steps end at the
     events the FMUs locate, and events the FMUs handle at a communication point are
-    moved back to where the coupled system crossed (to 1e-10 s). Adaptive steps and
+    moved back to where the coupled system crossed (to 1e-10 s), where the FMUs' modes
+    settle before the next step (cosim.c settle). Adaptive steps and
     event synchronisation roll back through FMU state; where an FMU cannot get and set
     its state (a foreign one, say), or a foreign FMU's restore proves inexact when
     checked once (:mod:`assemblies.engine.restore`; ``settings["inexact_restore"]``

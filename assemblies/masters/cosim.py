@@ -54,8 +54,8 @@ from ..foreign import FMU, check_mode
 from ..inputs import with_inputs
 from ..result import Result, Table
 from .adaptive import COAST_STEPS, StepController
-from .events import (EVENT_TOL, earliest_event_in_step, events_at_start, fires_at_start,
-                     locate_start_event, probe_step)
+from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
+                     fires_at_start, locate_start_event, probe_step)
 from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, is_held,
                             step_mean)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
@@ -390,6 +390,19 @@ class _Master:
             points = [p for p in self.history[i] if p[0] < t - 1e-12 * max(1.0, abs(t))]
             self.history[i] = (points + [(t, value)])[-3:]
 
+    def held_inputs(self) -> dict[int, float]:
+        return {i: self._get(*self.couplings[i].target) for i in self.held}
+
+    def restart_history(self, before: dict[int, float]) -> None:
+        """Keep only the last point of the history of each held input that moved from
+        `before` by more than the tolerance relative to its value (cosim.c settle): its
+        values before are another branch, and a polynomial through both extrapolates
+        the jump."""
+        for i, was in before.items():
+            now = self._get(*self.couplings[i].target)
+            if abs(now - was) > self.defect_tol * (1.0 + abs(now)):
+                self.history[i] = self.history[i][-1:]
+
     def _held_value(self, i: int, t: float, h: float, t_source: float, now: float) -> float:
         """The constant for held input `i` over [t, t + h]; `now` is its source's value at
         `t_source` (t, or t + h where Gauss–Seidel stepped the source already)."""
@@ -521,7 +534,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     (None: on exactly when `adaptive`, as in the compiled engine): steps end at the
     events the FMUs locate, and events the FMUs handle at a communication point are
     moved back to where the coupled system crossed (to ``EVENT_TOL``,
-    :mod:`assemblies.masters.events`). Adaptive steps and event synchronisation roll
+    :mod:`assemblies.masters.events`), where the FMUs' modes settle before the next step
+    (probe-length steps until none fires at its start: a clutch released by an input
+    jump leaves its stick, and the loops are solved with it free). Adaptive steps and event synchronisation roll
     back through FMU state; where an FMU cannot get and set its state (a foreign one,
     say), or a foreign FMU's restore proves inexact when checked before the run
     (:func:`_restore_problem`; ``settings["inexact_restore"]``), the run falls back to
@@ -702,6 +717,9 @@ class _Stepper:
         # the next step by design, and is not to be moved back again
         self.located_at = -math.inf
         self.coast, self.h_coast = 0, 0.0  # unjudged steps left, and their length
+        # settling the modes after an event was cut at an output point (_settle), and
+        # the held inputs where it began
+        self.unsettled, self.settle_from = False, {}
         self.shortened = False  # the last step was shortened to end at an event in it
         self.steps = 0
         self.events_synchronised = 0
@@ -743,10 +761,20 @@ class _Stepper:
         m = self.master
         coasting = self.adaptive and self.coast > 0  # COAST_STEPS (adaptive.py)
         h_try = self._trial_length(target, self.h_coast if coasting else self.h)
+        if self.unsettled:  # settling was cut at an output point: it goes on from here
+            t = self.t
+            self._settle(target)
+            if self.t > t:
+                self.coast = 0
+                self._resample_after(self.located_at)
+                return
+            # no room for a settle step before target: step on
+            self.unsettled = False
+            m.restart_history(self.settle_from)
         if self.rollback:
             m.discard(self.snap)
             self.snap = m.save(self.t)
-        h_try = self._step_to_first_event(h_try)
+        h_try = self._step_to_first_event(h_try, target)
         if h_try is None:  # the run went back to a start event inside the previous step
             m.hold_raw = False
             return
@@ -784,7 +812,7 @@ class _Stepper:
             h_try = target - self.t
         return h_try
 
-    def _step_to_first_event(self, h_try: float) -> float | None:
+    def _step_to_first_event(self, h_try: float, target: float) -> float | None:
         """The step from self.t, shortened to end at the first event inside it; its
         length, or None where an event at its start was moved back into the step
         before (self.t is then that event's time)."""
@@ -796,7 +824,7 @@ class _Stepper:
                 return h_try
             which = events_at_start(m)
             if which and t > self.located_at:
-                if self._start_event(which):
+                if self._start_event(which, target):
                     return None
                 continue  # the step again, from the state restored there
             te = earliest_event_in_step(m)
@@ -812,7 +840,7 @@ class _Stepper:
                 continue
             return h_try
 
-    def _start_event(self, which: set[str]) -> bool:
+    def _start_event(self, which: set[str], target: float) -> bool:
         """An event fired at the start of the step from self.t, in the instances
         `which`: move it back to where it first fires in the previous step (True: the
         run is there now), or restore the step's start to retake it (False)."""
@@ -826,19 +854,61 @@ class _Stepper:
                 m.hold_raw = True
                 return False
         if self.prev is None:  # at the start of the run: nothing to go back into
-            self.located_at = t
             m.restore(self.snap)
-            return False
-        t_event = locate_start_event(m, self.prev, self.h_prev, which)
+            t_event = t
+        else:
+            t_event = locate_start_event(m, self.prev, self.h_prev, which)
+            self.h_prev = t_event - self.prev.t
         self.located_at = self.t = t_event
+        self._settle(target)  # the modes change there, before the next step
         self.coast = 0
-        self.h_prev = t_event - self.prev.t
-        # rows sampled after the event's new time are sampled again
+        self._resample_after(t_event)
+        return True
+
+    def _resample_after(self, t_event: float) -> None:
+        """Rows sampled at or after the event's time are sampled again, from where it
+        settled (past them, or at them to round-off): a row at or after an event shows
+        the modes after it."""
         k = len(self.rows) - 1
-        while k > 0 and self.out_times[k - 1] > t_event + 1e-12 * max(1.0, abs(t_event)):
+        while k > 0 and self.out_times[k - 1] >= t_event:
             k -= 1
         del self.rows[k + 1:]
-        return True
+
+    def _settle(self, target: float) -> None:
+        """Let the modes change at an event at the start of the step from self.t, and
+        the loops settle with them: steps of probe length, each followed by
+        consistency, until one in which no FMU fires at its start (cosim.c settle
+        says why); each is a step of the run. They never pass `target`: settling cut
+        there goes on from there (self.unsettled). Settled, a held input that jumped
+        meanwhile restarts its history (_Master.restart_history)."""
+        m = self.master
+        if not self.unsettled:
+            self.settle_from = m.held_inputs()
+        self.unsettled = True
+        held_raw, m.hold_raw = m.hold_raw, True
+        settled, n = False, 0
+        try:
+            while n < MAX_SETTLE_STEPS:
+                h = min(probe_step(self.t), target - self.t)
+                if not (h > 0.0 and self.t + h > self.t):
+                    break  # at the output point: the next step goes on
+                n += 1
+                m.discard(self.prev)
+                self.prev = m.save(self.t)
+                m.step(self.t, h)
+                self.h_prev = h
+                if m.terminated is not None:
+                    self.t = m.terminated["time"]
+                else:
+                    self.t = target if h == target - self.t else self.t + h
+                if m.terminated is not None or not events_at_start(m):
+                    settled = True
+                    break
+        finally:
+            m.hold_raw = held_raw
+        if settled or n == MAX_SETTLE_STEPS:
+            self.unsettled = False
+            m.restart_history(self.settle_from)
 
     def _judge(self, h_try: float) -> tuple[bool, float]:
         """Step doubling on the step of `h_try` just taken: redone as two halves, kept

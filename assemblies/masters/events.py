@@ -12,7 +12,9 @@ each through FMI 3 intermediate update. Two kinds matter to the master:
   passed the static friction limit during the previous step). The coupled system
   crossed somewhere in that previous step; bisecting it through rollback (retake it
   shorter, then a tiny probe step, undone, asks whether the event fires) finds the
-  earliest point where it does, to `EVENT_TOL`.
+  earliest point where it does, to `EVENT_TOL`. There the FMUs' modes settle before
+  the next step (:meth:`assemblies.masters.cosim._Stepper._settle`): the FMU changes
+  its mode only in a doStep, after the master set inputs from the old modes' outputs.
 
 This is the scheme of the compiled engine (``assemblies/engine/c/cosim.c``:
 ``earliest_event_in_step``, ``fires_at_start``, ``locate_start_event``); the time
@@ -29,6 +31,11 @@ if TYPE_CHECKING:  # only for the annotations: cosim imports this module
 # width of the final bracket when an event is moved back [s]; the engine's
 # assemblies.engine.cosim.EVENT_TOL (not imported: the engine imports the masters)
 EVENT_TOL = 1e-10
+
+
+# settle steps after an event at a communication point: a cascade needs one per FMU
+# whose mode change moves another's inputs across its condition (cosim.c MAX_SETTLE_STEPS)
+MAX_SETTLE_STEPS = 16
 
 
 def probe_step(t: float) -> float:
@@ -92,7 +99,9 @@ def locate_start_event(master: _Master, prev: _Snapshot, h_prev: float, which: s
                 hi = m
             else:
                 lo = m
-        # the step to the first point known to fire: the next step handles the event there
+        # the step to the first point known to fire, taking the inputs as any step does
+        # (cosim.c locate_start_event says why): the event settles there
+        master.hold_raw = held_raw
         master.restore(prev)
         master.step(t0, hi)
     finally:
@@ -101,5 +110,5 @@ def locate_start_event(master: _Master, prev: _Snapshot, h_prev: float, which: s
     return t0 + hi
 
 
-__all__ = ["EVENT_TOL", "earliest_event_in_step", "events_at_start", "fires_at_start",
+__all__ = ["EVENT_TOL", "MAX_SETTLE_STEPS", "earliest_event_in_step", "events_at_start", "fires_at_start",
            "locate_start_event", "probe_step"]

@@ -71,7 +71,7 @@ def _coupled_clutches() -> Assembly:
 
 
 def mode_changes(result: Result, instance: str, engaged_only: bool = True,
-                 triggers: tuple[str, ...] = ()):
+                 triggers: tuple[str, ...] = (), away: float = 0.0):
     """(time, settled mode) of each change of `instance`'s mode while engaged (fn > 0;
     every change with `engaged_only` false: a one-way clutch's freewheel), at its own
     events and at those of the instances `triggers` (a signal whose jump switches it).
@@ -80,24 +80,31 @@ def mode_changes(result: Result, instance: str, engaged_only: bool = True,
     compared with the last row before it, and events less than 1e-9 s apart are one:
     an event row records the mode its own iteration reached, and an assembly whose
     iteration passes through a transient mode (as clutches in series did before a
-    stuck clutch followed its driver's jumps) is still read right.
+    stuck clutch followed its driver's jumps) is still read right. Events between the
+    same two rows are one change too: the rows cannot show more. `away`: the rows read
+    are at least that far from the event (the events' time accuracy): a change undone
+    within it (a lock and release where the relative speed touches 0) is none.
     """
     tables = [result.events[k] for k in (instance, *triggers) if k in result.events]
     if not tables:
         return []
     t, mode = np.asarray(result["time"]), np.asarray(result[f"{instance}.mode"])
     fn = np.asarray(result[f"{instance}.fn"]) if engaged_only else np.ones_like(t)
-    out, cluster = [], -math.inf
+    out, cluster, read = [], -math.inf, None
     for te in np.sort(np.concatenate([np.asarray(ev["time"]) for ev in tables])):
         if te - cluster < 1e-9:
             continue
         cluster = te
-        before, after = np.searchsorted(t, te, side="left") - 1, np.searchsorted(t, te, side="right")
-        if after == len(t) or before < 0:
+        before = np.searchsorted(t, te - away, side="left") - 1
+        after = np.searchsorted(t, te + away, side="right")
+        # the rows show one change between them however many events lie there (a
+        # co-simulated contact touching w_rel = 0 at a torque's zero chatters there)
+        if after == len(t) or before < 0 or (before, after) == read:
             continue
         # being pressed again (out of MSL's free mode) is neither a lock nor a break-away
         if mode[after] != mode[before] and fn[after] > 0 and mode[before] != FREE:
             out.append((float(te), int(mode[after])))
+            read = (before, after)
     return out
 
 
