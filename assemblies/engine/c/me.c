@@ -72,7 +72,9 @@ typedef struct {
     double *row;                 /* an event row */
     double *fd, *fd2;            /* finite-difference columns */
     eng_jacobian *exact;         /* the Jacobian from directional derivatives; NULL: by
-                                    finite differences */
+                                    finite differences, or not planned yet */
+    int exact_wanted;            /* directional derivatives it is: exact is planned at the
+                                    first Jacobian the run needs (plan_exact) */
     int *group_changed;          /* event groups with an indicator that crossed at this event */
     mf_dopri dopri;
     mf_ros ros;
@@ -284,6 +286,7 @@ static void drop_exact(me_master *M, int instance, const char *format, ...)
     const size_t size = sizeof M->stats->jacobian_note;
     eng_jacobian_free(M->exact);
     M->exact = NULL;
+    M->exact_wanted = 0;
     M->ros.banded = 0; /* differences know no structure: dense from here on */
     M->stats->exact_jacobian = 0;
     if (format && instance >= 0) {
@@ -294,6 +297,32 @@ static void drop_exact(me_master *M, int instance, const char *format, ...)
         vsnprintf(note + k, size - (size_t)k, format, args);
         va_end(args);
     }
+}
+
+/* The directional derivatives' plan, at the first Jacobian a run needs: it follows
+   every state's reach through the couplings, quadratic in the states of a composite
+   FMU (every derivative on every state: a 256-block chain's took a tenth of a run that
+   never asked for a Jacobian). A banded pattern (a chain) is factored in O(n_x) where
+   that beats the dense O(n_x^3): a band of b diagonals costs about n_x b^2 against
+   n_x^3 / 3. 0: planned or not wanted; -1: out of memory under jacobian='exact'
+   (otherwise the run takes differences). */
+static int plan_exact(me_master *M)
+{
+    int kl, ku;
+    if (M->exact || !M->exact_wanted) return 0;
+    M->exact = eng_jacobian_plan(M->spec, M->x_off);
+    if (!M->exact) {
+        drop_exact(M, -1, NULL);
+        return M->spec->jacobian == ENG_JACOBIAN_EXACT
+                   ? fail(M, "out of memory planning the Jacobian (jacobian='exact')") : 0;
+    }
+    eng_jacobian_bandwidth(M->exact, &kl, &ku);
+    if ((double)(2 * kl + ku + 1) * (double)(kl + 1) * 3.0 < (double)M->n_x * (double)M->n_x) {
+        M->ros.banded = 1;
+        M->ros.kl = kl;
+        M->ros.ku = ku;
+    }
+    return 0;
 }
 
 /* Column j of d f / d x at (t, x) by central differences with the step delta against
@@ -346,6 +375,8 @@ static int probe_jacobian(me_master *M, double t)
     const int n = M->n_x;
     double *exact = M->ros.jac;
     int bad = -1, j, rc;
+    if (plan_exact(M)) return -1;
+    if (!M->exact) return 0;
     if (set_point(M, t, M->x)) return -1;
     rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, exact, &bad);
     if (rc < 0) {
@@ -392,6 +423,7 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
     me_master *M = ctx;
     const double *f0 = M->ros.f0;
     int i, j, n = M->n_x;
+    if (plan_exact(M)) return -1;
     if (M->exact) {
         int bad = -1, rc;
         if (set_point(M, t, x)) return -1;
@@ -928,7 +960,7 @@ static int exit_initialization(me_master *M)
     clear_groups(M);
     if (event_iteration(M, t0, 1)) return -1;
     if (indicators_at(M, t0, M->x, M->z_prev)) return -1;
-    if (M->exact && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
+    if (M->exact_wanted && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
         int foreign = 0;
         for (i = 0; i < M->n; i++) foreign = foreign || s->instances[i].foreign;
         if (foreign && probe_jacobian(M, t0)) return -1;
@@ -945,7 +977,7 @@ static double start_time(const eng_me_spec *s)
 
 static int initialize(me_master *M)
 {
-    if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact && M->n_x)
+    if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact_wanted && M->n_x)
         return fail(M, "jacobian='exact': an instance with states or coupled Real "
                        "variables gives no directional derivatives ('fd' or 'auto' take "
                        "differences)");
@@ -1280,21 +1312,10 @@ static int allocate(me_master *M)
         || !M->x_start || !M->asleep || !M->evaluate_at || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
-    M->exact = s->jacobian == ENG_JACOBIAN_FD ? NULL : eng_jacobian_plan(s, M->x_off);
-    M->stats->exact_jacobian = M->exact != NULL;
+    M->exact_wanted = s->jacobian != ENG_JACOBIAN_FD && eng_jacobian_possible(s);
+    M->stats->exact_jacobian = M->exact_wanted;
     /* both methods, whichever the run starts with: the automatic choice may take either */
     if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
-    if (M->exact) {
-        /* a banded pattern (a chain) is factored in O(n_x) where that beats the dense
-           O(n_x^3): a band of b diagonals costs about n_x b^2 against n_x^3 / 3 */
-        int kl, ku;
-        eng_jacobian_bandwidth(M->exact, &kl, &ku);
-        if ((double)(2 * kl + ku + 1) * (double)(kl + 1) * 3.0 < (double)M->n_x * (double)M->n_x) {
-            M->ros.banded = 1;
-            M->ros.kl = kl;
-            M->ros.ku = ku;
-        }
-    }
     mf_stiffness_reset(&M->stiff, s->method == ENG_RODAS3);
     M->dense_implicit = M->stiff.implicit;
     return 0;
