@@ -10,6 +10,7 @@
  * output time.
  */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -31,6 +32,12 @@
 /* integrator steps (and time events) per call that advances time: a whole run, or one
    doStep of an assembly FMU; as many as a component FMU's doStep may take */
 #define MAX_STEPS 10000000L
+/* Per-instance event location (locate): the distinct times one step's location asks
+   for, followed in the order they are first asked (SHARED_RANKS of them), and the
+   whole-assembly evaluations kept for the times many instances ask for (SHARED_SLOTS:
+   the two ends of the quiet test and the interior samples, events.h) */
+#define SHARED_RANKS 8
+#define SHARED_SLOTS 4
 
 /* The couplings one kind of evaluation sets, in order (plan_couplings): live[p],
    p < n_live; the arrays below are by p. */
@@ -64,6 +71,16 @@ typedef struct {
        local NULL: the indicators are located on the whole assembly */
     coupling_plan *local;
     int *local_start, *local_instance;
+    /* the times of one step's per-instance location that every instance asks for (the
+       quiet test's two, events.h) cost one whole-assembly evaluation less than each
+       instance's own (shared_point): ask_t[r], the r-th distinct time asked in this step,
+       asked by ask_count[r] instances (ask_last[r]: the last of them); prev_count[r], by
+       how many in the step before, which predicts it; a time asked by shared_from or
+       more is evaluated once for all, into shared_z (shared_t: its times) */
+    double ask_t[SHARED_RANKS], shared_t[SHARED_SLOTS];
+    int ask_count[SHARED_RANKS], ask_last[SHARED_RANKS], prev_count[SHARED_RANKS];
+    int n_ask, n_shared, shared_from;
+    double *shared_z;
     int *row_instance, rows_partial;
     int *set_again, any_set_again; /* foreign row instances: set again before a row */
     double *read;         /* source values read in one call per run, by plan index */
@@ -510,6 +527,40 @@ typedef struct {
     int instance;
 } local_ctx;
 
+/* Instance i asks for its indicators at t inside the step: k > 0 when they are (or are
+   now put) in the whole-assembly evaluation shared_z row k - 1, 0 when i evaluates its
+   own, -1 on failure. Every instance's location of one step asks for the same two
+   times (the quiet test's, events.h) and those inside a step that is not quiet for
+   the same samples; an instance's own evaluation moves it and its sources (a chain's
+   block: six instances), so where the step before had shared_from or more instances
+   asking at the same rank, this time is evaluated once on the whole assembly instead.
+   The values are the same either way: the dense output is the same per state, and an
+   instance's indicators read only the couplings of its own plan. */
+static int shared_point(me_master *M, int i, double t)
+{
+    int r, k;
+    for (k = 0; k < M->n_shared; k++)
+        if (M->shared_t[k] == t) break;
+    for (r = 0; r < M->n_ask && M->ask_t[r] != t; r++) {}
+    if (r == M->n_ask && r < SHARED_RANKS) {
+        M->ask_t[r] = t;
+        M->ask_count[r] = 0;
+        M->ask_last[r] = -1;
+        M->n_ask++;
+    }
+    if (r < M->n_ask && M->ask_last[r] != i) {
+        M->ask_count[r]++;
+        M->ask_last[r] = i;
+    }
+    if (k < M->n_shared) return k + 1;
+    if (r >= M->n_ask || M->prev_count[r] < M->shared_from || k >= SHARED_SLOTS) return 0;
+    dense(M, t, M->x_tmp);
+    if (indicators_at(M, t, M->x_tmp, M->shared_z + (size_t)k * (size_t)M->n_z)) return -1;
+    M->shared_t[k] = t;
+    M->n_shared++;
+    return k + 1;
+}
+
 /* mf_indicator_fn: one instance's indicators inside the last accepted step, with only
    it and the instances its indicators read moved there (the others stay where they
    were: the next set_point moves everything). */
@@ -518,7 +569,13 @@ static int local_indicators(void *ctx, double t, double *z)
     const local_ctx *L = ctx;
     me_master *M = L->M;
     const int i = L->instance;
-    int a;
+    int a, shared = shared_point(M, i, t);
+    if (shared < 0) return -1;
+    if (shared) {
+        memcpy(z, M->shared_z + (size_t)(shared - 1) * (size_t)M->n_z + M->z_off[i],
+               (size_t)(M->z_off[i + 1] - M->z_off[i]) * sizeof(double));
+        return 0;
+    }
     M->set_valid = 0;
     for (a = M->local_start[i]; a < M->local_start[i + 1]; a++) {
         const int k = M->local_instance[a];
@@ -539,10 +596,13 @@ static int local_indicators(void *ctx, double t, double *z)
 static int locate(me_master *M, double t_old, double t, double *t_event)
 {
     const eng_me_spec *s = M->spec;
-    int i, found = 0;
+    int i, r, found = 0;
     if (!M->local)
         return mf_locate_event(indicators_inside, M, M->n_z, t_old, M->z_prev, t, M->z_now,
                                s->event_subsamples, t_event, M->z_hit, M->z_work);
+    /* this step's asks predict the next's (shared_point) */
+    for (r = 0; r < SHARED_RANKS; r++) M->prev_count[r] = r < M->n_ask ? M->ask_count[r] : 0;
+    M->n_ask = M->n_shared = 0;
     for (i = 0; i < M->n; i++) {
         const int off = M->z_off[i], nz = M->z_off[i + 1] - off;
         local_ctx L = {M, i};
@@ -1206,7 +1266,8 @@ static int plan_rows(me_master *M)
 static int plan_local(me_master *M)
 {
     const eng_me_spec *s = M->spec;
-    int i, a, p, total = 0, *mask, *mark;
+    int i, a, p, total = 0, located = 0, *mask, *mark;
+    double own = 0.0, whole;
     if (!s->indicator_start) return 0;
     M->local = calloc((size_t)M->n, sizeof(coupling_plan));
     M->local_start = calloc((size_t)M->n + 1, sizeof(int));
@@ -1235,10 +1296,20 @@ static int plan_local(me_master *M)
         }
         for (a = M->local_start[i]; a < n_inst; a++) mark[M->local_instance[a]] = 0;
         M->local_start[i + 1] = n_inst;
+        if (M->z_off[i + 1] > M->z_off[i]) {
+            located++;
+            own += (double)(n_inst - M->local_start[i]) + M->local[i].n_live + 1.0;
+        }
     }
     free(mask);
     free(mark);
-    return 0;
+    /* where a whole-assembly evaluation (every instance moved, the couplings between
+       events set, every instance's indicators read) costs less than this many
+       instances' own (their instances moved, their plans' couplings, their indicators) */
+    whole = (double)M->n + M->between.n_live + located;
+    M->shared_from = located > 0 ? (int)fmax(2.0, ceil(whole / (own / located))) : INT_MAX;
+    M->shared_z = calloc((size_t)SHARED_SLOTS * (size_t)M->n_z + 1, sizeof(double));
+    return M->shared_z ? 0 : -1;
 fail:
     free(mask);
     free(mark);
@@ -1339,7 +1410,7 @@ static void release(me_master *M)
     free(M->row_instance); free(M->set_again);
     if (M->local)
         for (i = 0; i < M->n; i++) plan_free(&M->local[i]);
-    free(M->local); free(M->local_start); free(M->local_instance);
+    free(M->local); free(M->local_start); free(M->local_instance); free(M->shared_z);
     free(M->pending_vr); free(M->pending_value);
 }
 
