@@ -1283,7 +1283,9 @@ static int plan_local(me_master *M)
         int n_inst = M->local_start[i];
         if (plan_allocate(&M->local[i], count)) goto fail;
         for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 1;
-        if (plan_couplings(M, &M->local[i], mask)) goto fail;
+        /* planning scans every coupling: only for the instances whose indicators read
+           some (a chain's links and belts read none: two thirds of n x couplings) */
+        if (count > 0 && plan_couplings(M, &M->local[i], mask)) goto fail;
         for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 0;
         mark[i] = 1;
         M->local_instance[n_inst++] = i;
