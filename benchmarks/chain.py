@@ -342,8 +342,11 @@ def step_exponents(rows: dict[int, dict]) -> dict[str, float]:
     sizes = sorted(n for n, r in rows.items() if r.get("cpu_s"))
     if len(sizes) < 2 or not all(rows[n].get("steps") for n in sizes):
         return {}
-    return {"steps": fit_exponent(sizes, [rows[n]["steps"] for n in sizes])["all"],
+    fits = {"steps": fit_exponent(sizes, [rows[n]["steps"] for n in sizes])["all"],
             "cpu_per_step": fit_exponent(sizes, [rows[n]["cpu_per_step_s"] for n in sizes])["all"]}
+    if all(rows[n].get("events") for n in sizes):  # what makes the steps grow
+        fits["events"] = fit_exponent(sizes, [rows[n]["events"] for n in sizes])["all"]
+    return fits
 
 
 def report(data: dict) -> str:
@@ -371,6 +374,10 @@ def report(data: dict) -> str:
         rows = data["modes"][mode]
         lines.append(f"{mode + ' steps':32s}" + "".join(
             f"{rows.get(str(n), {}).get('steps') or '-':>9}" for n in sizes) + f"{p['steps']:9.2f}")
+        if "events" in p:  # each event ends a step of the one integrator: steps = events + a few
+            lines.append(f"{mode + ' events':32s}" + "".join(
+                f"{rows.get(str(n), {}).get('events') or '-':>9}" for n in sizes)
+                + f"{p['events']:9.2f}")
         lines.append(f"{mode + ' us/step':32s}" + "".join(
             f"{rows[str(n)]['cpu_per_step_s'] * 1e6:9.1f}" if rows.get(str(n), {}).get(
                 "cpu_per_step_s") else f"{'-':>9s}" for n in sizes) + f"{p['cpu_per_step']:9.2f}")
