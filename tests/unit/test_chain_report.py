@@ -33,3 +33,24 @@ def test_a_mode_without_events_has_no_events_row():
     for r in rows.values():
         r["events"] = None  # cosim: communication steps, no events of its own
     assert "events" not in step_exponents(rows)
+
+
+def test_a_timed_call_leaves_the_collector_as_it_found_it():
+    """cpu_seconds freezes what the process held before the call (gc.freeze), so that
+    a collection the call triggers does not scan the benchmark's own heap, and thaws
+    it afterwards, also when the call fails."""
+    import gc
+
+    import pytest
+
+    from benchmarks.chain import cpu_seconds
+    seen = []
+    cpu, result = cpu_seconds(lambda: seen.append(gc.get_freeze_count()) or "done")
+    assert result == "done" and cpu >= 0.0 and seen[0] > 0
+    assert gc.get_freeze_count() == 0 and gc.isenabled()
+
+    def fails():
+        raise RuntimeError("a mode that fails")
+    with pytest.raises(RuntimeError):
+        cpu_seconds(fails)
+    assert gc.get_freeze_count() == 0
