@@ -208,9 +208,10 @@ def cpu_seconds(call) -> tuple[float, object]:
     the garbage collector's scans (gc.freeze) while it runs: a collection the call
     triggers then scans what the call made, not the benchmark's heap, which is not the
     mode's cost (the engine cosim's public call at n = 256 triggered full collections:
-    211 ms CPU beside a 1.5-million-object heap, 127 ms with it frozen, 59 ms at n = 128
-    either way)."""
-    gc.collect()
+    206 ms CPU beside a 1.5-million-object heap, 142 ms with it frozen, 59 ms at n = 128
+    either way). No collection before the call: one walks the whole heap and leaves
+    the caches cold for the call (n = 2, monolithic: 0.12 ms plain, 0.14 frozen, 0.40
+    collected and frozen)."""
     gc.freeze()
     try:
         started = time.process_time()
