@@ -194,7 +194,11 @@ def member_functions(joined, model) -> dict:
             for j in js:
                 group_of[(inst, j)] = (tuple(js), used)
     by_level: dict[int, dict] = defaultdict(lambda: defaultdict(list))
-    for inst, var in wanted:
+    # in the members' order, not the set's (hashed strings: a new order in each process):
+    # a map's gathers then read its members' slots in runs and strides instead of a
+    # scattered index table per argument, and the same assembly writes the same C
+    rank = {name: k for k, name in enumerate(members)}
+    for inst, var in sorted(wanted, key=lambda w: (rank[w[0]], w[1])):
         if (inst, var) not in slot:
             outputs = [v.name for v in members[inst].outputs]
             if var not in outputs:

@@ -107,3 +107,26 @@ def test_a_fully_coupled_model_gets_one_group_per_column():
     assert res.settings["jacobian_evaluations"] == 3 * res.settings["jacobians"]
     assert [res[f"rob.y{k}"][-1] for k in (1, 2, 3)] == pytest.approx(
         [0.7158, 9.185e-6, 0.2842], rel=2e-3)
+
+
+def test_the_jacobian_is_planned_only_when_a_run_needs_one():
+    """The plan follows every state's reach through the couplings (for a composite FMU,
+    whose derivatives each depend on every state, quadratic in its states: a tenth of a
+    256-block chain's monolithic run). A run whose explicit steps never ask for a
+    Jacobian plans none (no column groups), though it reports the directional
+    derivatives it would take; the same run under RODAS3 plans it at its first step and
+    gets the run that finite differences give (the solution does not depend on when
+    the plan was made)."""
+    from assemblies.engine import simulate_monolithic
+    from benchmarks.chain import bench_chain, positions
+    for run in (simulate_me, simulate_monolithic):
+        explicit = run(bench_chain(4), 10.0, 0.1, 1e-6, record=positions(4))
+        s = explicit.settings
+        assert s["jacobians"] == 0 and s["jacobian"] == "directional derivatives"
+        assert s["jacobian_groups"] == 0 and s["jacobian_evaluations"] == 0
+        implicit = run(bench_chain(4), 2.0, 0.1, 1e-6, method="RODAS3", record=positions(4))
+        fd = run(bench_chain(4), 2.0, 0.1, 1e-6, method="RODAS3", jacobian="fd",
+                 record=positions(4))
+        assert implicit.settings["jacobian_groups"] > 0 and implicit.settings["jacobians"] > 0
+        for c in positions(4):
+            np.testing.assert_allclose(implicit[c], fd[c], rtol=0, atol=1e-6)

@@ -84,3 +84,24 @@ def test_small_assemblies_keep_the_flattened_expression():
     assert worth_mapping(flatten(composite(bench_chain(32))))
     assert not worth_mapping(flatten(composite(bench_chain(18))))
     assert worth_mapping(flatten(composite(bench_chain(19))))
+
+
+def test_the_same_chain_writes_the_same_c_in_every_process():
+    """The mapped members come in the assembly's order, not in the order of a set of
+    names (string hashes: a new order in each process, so each build wrote other index
+    tables for the same assembly, scattered where the members' slots run in strides)."""
+    import hashlib
+    import os
+    import subprocess
+    import sys
+    script = ("import hashlib; from assemblies.masters import composite_code as cc; "
+              "cc.FLAT_LIMIT = 0; from assemblies.masters.monolithic import composite; "
+              "from benchmarks.chain import bench_chain; from components.dae import flatten; "
+              "from fmus.codegen import generate_c; "
+              "print(hashlib.sha256(generate_c(flatten(composite(bench_chain(6))), 'chain', "
+              "'token').encode()).hexdigest())")
+    digests = {subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                              check=True, env={**os.environ, "PYTHONHASHSEED": seed}
+                              ).stdout.strip() for seed in ("1", "2", "3")}
+    assert len(digests) == 1, digests
+    assert hashlib.sha256(b"").hexdigest() not in digests

@@ -225,6 +225,41 @@ refuse:
     return -1;
 }
 
+/* Per instance, how many plain couplings may set its inputs (known) and read its
+   outputs (unknown). */
+static void coupled_counts(const eng_me_spec *s, int *known, int *unknown)
+{
+    int k;
+    for (k = 0; k < s->n_couplings; k++)
+        if (ENG_PLAIN(&s->couplings[k].source)) {
+            unknown[s->couplings[k].source.instance]++;
+            known[s->couplings[k].target.instance]++;
+        }
+}
+
+/* Whether instance i enters the Jacobian without what it takes: directional
+   derivatives, and the value references of its states and derivatives. */
+static int lacks_derivatives(const eng_instance_spec *in, int known, int unknown)
+{
+    if (in->n_states == 0 && !known && !unknown) return 0; /* nothing of it enters */
+    return !in->provides_directional_derivative ||
+           (in->n_states > 0 && (!in->state_vr || !in->derivative_vr));
+}
+
+int eng_jacobian_possible(const eng_me_spec *s)
+{
+    int i, ok = 1;
+    int *known = calloc((size_t)s->n_instances + 1, sizeof(int));
+    int *unknown = calloc((size_t)s->n_instances + 1, sizeof(int));
+    if (!known || !unknown) ok = 0;
+    if (ok) coupled_counts(s, known, unknown);
+    for (i = 0; ok && i < s->n_instances; i++)
+        ok = !lacks_derivatives(&s->instances[i], known[i], unknown[i]);
+    free(known);
+    free(unknown);
+    return ok;
+}
+
 eng_jacobian *eng_jacobian_plan(const eng_me_spec *s, const int *x_off)
 {
     const int nc = s->n_couplings;
@@ -254,20 +289,14 @@ eng_jacobian *eng_jacobian_plan(const eng_me_spec *s, const int *x_off)
         goto refuse;
     for (i = 0; i < J->n; i++)
         for (k = x_off[i]; k < x_off[i + 1]; k++) J->row_part[k] = i;
-    for (k = 0; k < nc; k++)
-        if (ENG_PLAIN(&s->couplings[k].source)) {
-            unknown[s->couplings[k].source.instance]++;
-            known[s->couplings[k].target.instance]++;
-        }
+    coupled_counts(s, known, unknown);
     for (i = 0; i < J->n; i++) {
         const eng_instance_spec *in = &s->instances[i];
         part *p = &J->parts[i];
         p->n_x = in->n_states;
+        if (lacks_derivatives(in, known[i], unknown[i])) goto refuse;
         if (p->n_x == 0 && !known[i] && !unknown[i])
             continue; /* nothing of it enters the Jacobian */
-        if (!in->provides_directional_derivative ||
-            (p->n_x > 0 && (!in->state_vr || !in->derivative_vr)))
-            goto refuse;
         p->known_vr = calloc((size_t)(p->n_x + known[i]) + 1, sizeof(uint32_t));
         p->unknown_vr = calloc((size_t)(p->n_x + unknown[i]) + 1, sizeof(uint32_t));
         p->seed = calloc((size_t)(p->n_x + known[i]) + 1, sizeof(double));

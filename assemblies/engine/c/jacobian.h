@@ -40,6 +40,12 @@ typedef struct eng_jacobian eng_jacobian;
    differences it is), or when memory runs out. */
 eng_jacobian *eng_jacobian_plan(const eng_me_spec *spec, const int *x_off);
 
+/* Whether eng_jacobian_plan can plan `spec` (memory aside), in time linear in its
+   instances and couplings: the plan itself follows every state's reach, which for a
+   composite FMU (every derivative on every state) is quadratic in its states, so a
+   run builds it only when it first needs a Jacobian. */
+int eng_jacobian_possible(const eng_me_spec *spec);
+
 /* jac[j * n_x + i] = d xdot_i / d x_j at the point every instance stands at (time,
    states and coupled inputs set). Instances with asleep[i] nonzero have zero rows and
    are not called. 0: done; -1: instance *bad failed; 1: the couplings did not settle

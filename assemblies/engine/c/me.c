@@ -10,6 +10,7 @@
  * output time.
  */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -40,6 +41,13 @@
 #define LOOP_TOLERANCE 1e-3
 #define MAX_LOOP_ITERATIONS 20
 #define LOOP_REUSE 2
+
+/* Per-instance event location (locate): the distinct times one step's location asks
+   for, followed in the order they are first asked (SHARED_RANKS of them), and the
+   whole-assembly evaluations kept for the times many instances ask for (SHARED_SLOTS:
+   the two ends of the quiet test and the interior samples, events.h) */
+#define SHARED_RANKS 8
+#define SHARED_SLOTS 4
 
 /* The couplings one kind of evaluation sets, in order (plan_couplings): live[p],
    p < n_live; the arrays below are by p. */
@@ -82,6 +90,16 @@ typedef struct {
        local NULL: the indicators are located on the whole assembly */
     coupling_plan *local;
     int *local_start, *local_instance;
+    /* the times of one step's per-instance location that every instance asks for (the
+       quiet test's two, events.h) cost one whole-assembly evaluation less than each
+       instance's own (shared_point): ask_t[r], the r-th distinct time asked in this step,
+       asked by ask_count[r] instances (ask_last[r]: the last of them); prev_count[r], by
+       how many in the step before, which predicts it; a time asked by shared_from or
+       more is evaluated once for all, into shared_z (shared_t: its times) */
+    double ask_t[SHARED_RANKS], shared_t[SHARED_SLOTS];
+    int ask_count[SHARED_RANKS], ask_last[SHARED_RANKS], prev_count[SHARED_RANKS];
+    int n_ask, n_shared, shared_from;
+    double *shared_z;
     int *row_instance, rows_partial;
     int *set_again, any_set_again; /* foreign row instances: set again before a row */
     double *read;         /* source values read in one call per run, by plan index */
@@ -90,7 +108,9 @@ typedef struct {
     double *row;                 /* an event row */
     double *fd, *fd2;            /* finite-difference columns */
     eng_jacobian *exact;         /* the Jacobian from directional derivatives; NULL: by
-                                    finite differences */
+                                    finite differences, or not planned yet */
+    int exact_wanted;            /* directional derivatives it is: exact is planned at the
+                                    first Jacobian the run needs (plan_exact) */
     int *group_changed;          /* event groups with an indicator that crossed at this event */
     mf_dopri dopri;
     mf_ros ros;
@@ -492,6 +512,7 @@ static void drop_exact(me_master *M, int instance, const char *format, ...)
     const size_t size = sizeof M->stats->jacobian_note;
     eng_jacobian_free(M->exact);
     M->exact = NULL;
+    M->exact_wanted = 0;
     M->ros.banded = 0; /* differences know no structure: dense from here on */
     M->stats->exact_jacobian = 0;
     if (format && instance >= 0) {
@@ -515,6 +536,32 @@ static void drop_timed_columns(const me_master *M, double *jac)
         if (M->timed[i] && M->x_off[i + 1] > M->x_off[i])
             memset(jac + (size_t)M->x_off[i] * (size_t)M->n_x, 0,
                    (size_t)(M->x_off[i + 1] - M->x_off[i]) * (size_t)M->n_x * sizeof(double));
+}
+
+/* The directional derivatives' plan, at the first Jacobian a run needs: it follows
+   every state's reach through the couplings, quadratic in the states of a composite
+   FMU (every derivative on every state: a 256-block chain's took a tenth of a run that
+   never asked for a Jacobian). A banded pattern (a chain) is factored in O(n_x) where
+   that beats the dense O(n_x^3): a band of b diagonals costs about n_x b^2 against
+   n_x^3 / 3. 0: planned or not wanted; -1: out of memory under jacobian='exact'
+   (otherwise the run takes differences). */
+static int plan_exact(me_master *M)
+{
+    int kl, ku;
+    if (M->exact || !M->exact_wanted) return 0;
+    M->exact = eng_jacobian_plan(M->spec, M->x_off);
+    if (!M->exact) {
+        drop_exact(M, -1, NULL);
+        return M->spec->jacobian == ENG_JACOBIAN_EXACT
+                   ? fail(M, "out of memory planning the Jacobian (jacobian='exact')") : 0;
+    }
+    eng_jacobian_bandwidth(M->exact, &kl, &ku);
+    if ((double)(2 * kl + ku + 1) * (double)(kl + 1) * 3.0 < (double)M->n_x * (double)M->n_x) {
+        M->ros.banded = 1;
+        M->ros.kl = kl;
+        M->ros.ku = ku;
+    }
+    return 0;
 }
 
 /* Column j of d f / d x at (t, x) by central differences with the step delta against
@@ -567,6 +614,8 @@ static int probe_jacobian(me_master *M, double t)
     const int n = M->n_x;
     double *exact = M->ros.jac;
     int bad = -1, j, rc;
+    if (plan_exact(M)) return -1;
+    if (!M->exact) return 0;
     if (set_point(M, t, M->x)) return -1;
     rc = eng_jacobian_eval(M->exact, M->fmus, M->asleep, exact, &bad);
     if (rc < 0) {
@@ -614,6 +663,7 @@ static int jacobian(void *ctx, double t, const double *x, double *jac)
     me_master *M = ctx;
     const double *f0 = M->ros.f0;
     int i, j, n = M->n_x;
+    if (plan_exact(M)) return -1;
     if (M->exact) {
         int bad = -1, rc;
         if (set_point(M, t, x)) return -1;
@@ -711,6 +761,40 @@ typedef struct {
     int instance;
 } local_ctx;
 
+/* Instance i asks for its indicators at t inside the step: k > 0 when they are (or are
+   now put) in the whole-assembly evaluation shared_z row k - 1, 0 when i evaluates its
+   own, -1 on failure. Every instance's location of one step asks for the same two
+   times (the quiet test's, events.h) and those inside a step that is not quiet for
+   the same samples; an instance's own evaluation moves it and its sources (a chain's
+   block: six instances), so where the step before had shared_from or more instances
+   asking at the same rank, this time is evaluated once on the whole assembly instead.
+   The values are the same either way: the dense output is the same per state, and an
+   instance's indicators read only the couplings of its own plan. */
+static int shared_point(me_master *M, int i, double t)
+{
+    int r, k;
+    for (k = 0; k < M->n_shared; k++)
+        if (M->shared_t[k] == t) break;
+    for (r = 0; r < M->n_ask && M->ask_t[r] != t; r++) {}
+    if (r == M->n_ask && r < SHARED_RANKS) {
+        M->ask_t[r] = t;
+        M->ask_count[r] = 0;
+        M->ask_last[r] = -1;
+        M->n_ask++;
+    }
+    if (r < M->n_ask && M->ask_last[r] != i) {
+        M->ask_count[r]++;
+        M->ask_last[r] = i;
+    }
+    if (k < M->n_shared) return k + 1;
+    if (r >= M->n_ask || M->prev_count[r] < M->shared_from || k >= SHARED_SLOTS) return 0;
+    dense(M, t, M->x_tmp);
+    if (indicators_at(M, t, M->x_tmp, M->shared_z + (size_t)k * (size_t)M->n_z)) return -1;
+    M->shared_t[k] = t;
+    M->n_shared++;
+    return k + 1;
+}
+
 /* mf_indicator_fn: one instance's indicators inside the last accepted step, with only
    it and the instances its indicators read moved there (the others stay where they
    were: the next set_point moves everything). */
@@ -719,7 +803,13 @@ static int local_indicators(void *ctx, double t, double *z)
     const local_ctx *L = ctx;
     me_master *M = L->M;
     const int i = L->instance;
-    int a;
+    int a, shared = shared_point(M, i, t);
+    if (shared < 0) return -1;
+    if (shared) {
+        memcpy(z, M->shared_z + (size_t)(shared - 1) * (size_t)M->n_z + M->z_off[i],
+               (size_t)(M->z_off[i + 1] - M->z_off[i]) * sizeof(double));
+        return 0;
+    }
     M->set_valid = 0;
     for (a = M->local_start[i]; a < M->local_start[i + 1]; a++) {
         const int k = M->local_instance[a];
@@ -740,10 +830,13 @@ static int local_indicators(void *ctx, double t, double *z)
 static int locate(me_master *M, double t_old, double t, double *t_event)
 {
     const eng_me_spec *s = M->spec;
-    int i, found = 0;
+    int i, r, found = 0;
     if (!M->local)
         return mf_locate_event(indicators_inside, M, M->n_z, t_old, M->z_prev, t, M->z_now,
                                s->event_subsamples, t_event, M->z_hit, M->z_work);
+    /* this step's asks predict the next's (shared_point) */
+    for (r = 0; r < SHARED_RANKS; r++) M->prev_count[r] = r < M->n_ask ? M->ask_count[r] : 0;
+    M->n_ask = M->n_shared = 0;
     for (i = 0; i < M->n; i++) {
         const int off = M->z_off[i], nz = M->z_off[i + 1] - off;
         local_ctx L = {M, i};
@@ -1293,7 +1386,7 @@ static int exit_initialization(me_master *M)
     clear_groups(M);
     if (event_iteration(M, t0, 1)) return -1;
     if (indicators_at(M, t0, M->x, M->z_prev)) return -1;
-    if (M->exact && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
+    if (M->exact_wanted && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
         int foreign = 0;
         for (i = 0; i < M->n; i++) foreign = foreign || s->instances[i].foreign;
         if (foreign && probe_jacobian(M, t0)) return -1;
@@ -1315,7 +1408,7 @@ static int initialize(me_master *M)
                        "inputs no directional derivative carries ('fd' or 'auto' take "
                        "differences)", M->spec->loop_name && M->spec->loop_name[0]
                                            ? M->spec->loop_name[0] : "unnamed");
-    if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact && M->n_x)
+    if (M->spec->jacobian == ENG_JACOBIAN_EXACT && !M->exact_wanted && M->n_x)
         return fail(M, "jacobian='exact': an instance with states or coupled Real "
                        "variables gives no directional derivatives ('fd' or 'auto' take "
                        "differences)");
@@ -1567,7 +1660,8 @@ static int plan_rows(me_master *M)
 static int plan_local(me_master *M)
 {
     const eng_me_spec *s = M->spec;
-    int i, a, p, total = 0, *mask, *mark;
+    int i, a, p, total = 0, located = 0, *mask, *mark;
+    double own = 0.0, whole;
     if (!s->indicator_start) return 0;
     M->local = calloc((size_t)M->n, sizeof(coupling_plan));
     M->local_start = calloc((size_t)M->n + 1, sizeof(int));
@@ -1583,7 +1677,9 @@ static int plan_local(me_master *M)
         int n_inst = M->local_start[i];
         if (plan_allocate(&M->local[i], count)) goto fail;
         for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 1;
-        if (plan_couplings(M, &M->local[i], mask)) goto fail;
+        /* planning scans every coupling: only for the instances whose indicators read
+           some (a chain's links and belts read none: two thirds of n x couplings) */
+        if (count > 0 && plan_couplings(M, &M->local[i], mask)) goto fail;
         for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 0;
         mark[i] = 1;
         M->local_instance[n_inst++] = i;
@@ -1596,10 +1692,20 @@ static int plan_local(me_master *M)
         }
         for (a = M->local_start[i]; a < n_inst; a++) mark[M->local_instance[a]] = 0;
         M->local_start[i + 1] = n_inst;
+        if (M->z_off[i + 1] > M->z_off[i]) {
+            located++;
+            own += (double)(n_inst - M->local_start[i]) + M->local[i].n_live + 1.0;
+        }
     }
     free(mask);
     free(mark);
-    return 0;
+    /* where a whole-assembly evaluation (every instance moved, the couplings between
+       events set, every instance's indicators read) costs less than this many
+       instances' own (their instances moved, their plans' couplings, their indicators) */
+    whole = (double)M->n + M->between.n_live + located;
+    M->shared_from = located > 0 ? (int)fmax(2.0, ceil(whole / (own / located))) : INT_MAX;
+    M->shared_z = calloc((size_t)SHARED_SLOTS * (size_t)M->n_z + 1, sizeof(double));
+    return M->shared_z ? 0 : -1;
 fail:
     free(mask);
     free(mark);
@@ -1811,22 +1917,10 @@ static int allocate(me_master *M)
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
         return -1;
     /* a loop's inputs are no plain function the seeds pass through: differences */
-    M->exact = s->jacobian == ENG_JACOBIAN_FD || M->n_loops ? NULL
-                                                            : eng_jacobian_plan(s, M->x_off);
-    M->stats->exact_jacobian = M->exact != NULL;
+    M->exact_wanted = s->jacobian != ENG_JACOBIAN_FD && !M->n_loops && eng_jacobian_possible(s);
+    M->stats->exact_jacobian = M->exact_wanted;
     /* both methods, whichever the run starts with: the automatic choice may take either */
     if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
-    if (M->exact) {
-        /* a banded pattern (a chain) is factored in O(n_x) where that beats the dense
-           O(n_x^3): a band of b diagonals costs about n_x b^2 against n_x^3 / 3 */
-        int kl, ku;
-        eng_jacobian_bandwidth(M->exact, &kl, &ku);
-        if ((double)(2 * kl + ku + 1) * (double)(kl + 1) * 3.0 < (double)M->n_x * (double)M->n_x) {
-            M->ros.banded = 1;
-            M->ros.kl = kl;
-            M->ros.ku = ku;
-        }
-    }
     mf_stiffness_reset(&M->stiff, s->method == ENG_RODAS3);
     M->dense_implicit = M->stiff.implicit;
     return 0;
@@ -1859,7 +1953,7 @@ static void release(me_master *M)
     free(M->row_instance); free(M->set_again);
     if (M->local)
         for (i = 0; i < M->n; i++) plan_free(&M->local[i]);
-    free(M->local); free(M->local_start); free(M->local_instance);
+    free(M->local); free(M->local_start); free(M->local_instance); free(M->shared_z);
     free(M->pending_vr); free(M->pending_value);
 }
 
