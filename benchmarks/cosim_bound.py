@@ -68,7 +68,7 @@ from assemblies.pruning import prune_unrecorded
 from assemblies.scenes import scene as get_scene
 
 from .cosim_fixed import COMPOSITE_TOLERANCES, TARGET_COMPOSITE, _every_nth
-from .joined import REFERENCE_TOLERANCE, reference
+from .joined import REFERENCE_TOLERANCE, reference, row_deviation
 
 SCENES = ("conveyor", "moving_table", "two_block_belt")
 COSIM_TOL = 1e-4
@@ -105,20 +105,6 @@ def order_fit(hs, errors) -> float:
     return float(np.polyfit(np.log(hs), np.log(errors), 1)[0])
 
 
-def row_errors(result, ref) -> np.ndarray:
-    """The weighed deviation (benchmarks.joined.deviation) at each output point."""
-    worst = np.zeros(len(np.asarray(ref["time"])))
-    for c in ref.columns:
-        if c == "time" or c.endswith(".mode") or c not in result.columns:
-            continue
-        y, y_ref = np.asarray(result[c], float), np.asarray(ref[c], float)
-        if y.shape != y_ref.shape:
-            return np.full_like(worst, math.inf)
-        scale = max(1.0, float(np.max(np.abs(y_ref))))
-        worst = np.maximum(worst, np.abs(y - y_ref) / scale)
-    return worst
-
-
 def _timed(call):
     started = time.process_time()
     result = call()
@@ -140,7 +126,7 @@ def measure_scene(name: str, repeats: int) -> dict:
     cosim()  # loads; untimed
     res, _ = _timed(cosim)
     s = res.settings
-    err = float(row_errors(res, ref).max())
+    err = float(row_deviation(res, ref).max())
     runs["cosim"] = cosim
     cos = dict(error=err, steps=s["steps"], rejected=s.get("rejected", 0),
                do_steps=s["do_steps"], events=s.get("events_synchronised", 0))
@@ -150,7 +136,7 @@ def measure_scene(name: str, repeats: int) -> dict:
         call = (lambda t: lambda: simulate_monolithic(asm, step=sc.step, **dict(common, tolerance=t)))(tol)
         call()
         r, _ = _timed(call)
-        e = float(row_errors(r, ref).max())
+        e = float(row_deviation(r, ref).max())
         if e <= err:
             comp = dict(tol=tol, error=e, steps=r.settings["steps"],
                         rejected=r.settings.get("rejected", 0))
@@ -165,7 +151,7 @@ def measure_scene(name: str, repeats: int) -> dict:
         call()
         raw, cpu = _timed(call)
         r = _every_nth(raw, n)  # the rows on the scene's output grid
-        e_rows = row_errors(r, ref)
+        e_rows = row_deviation(r, ref)
         steps = raw.settings["steps"]
         fixed.append(dict(n=n, h=h, error=float(e_rows.max()), steps=steps,
                           do_steps=raw.settings["do_steps"], e_rows=e_rows, time=np.asarray(r["time"])))

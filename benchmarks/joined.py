@@ -49,20 +49,28 @@ def reference(scene: str):
     return run_scene_full(scene, mode="monolithic", tolerance=REFERENCE_TOLERANCE).result
 
 
-def deviation(result, ref) -> float:
-    """Largest weighed deviation of `result` from `ref` over the float columns they share
-    (module doc); inf when a value is not finite or the run ended early."""
-    worst = 0.0
+def row_deviation(result, ref) -> np.ndarray:
+    """The weighed deviation of `result` from `ref` at each output point, over the float
+    columns they share (module doc); inf where a value is not finite or the run ended
+    early."""
+    worst = np.zeros(0)
     for c in ref.columns:
         if c == "time" or c.endswith(".mode") or c not in result.columns:
             continue
         y, y_ref = np.asarray(result[c], float), np.asarray(ref[c], float)
         if y.shape != y_ref.shape:
-            return math.inf
+            return np.full(max(len(y_ref), 1), math.inf)
         scale = max(1.0, float(np.max(np.abs(y_ref))))
-        d = float(np.max(np.abs(y - y_ref))) / scale
-        worst = max(worst, d if math.isfinite(d) else math.inf)
+        d = np.abs(y - y_ref) / scale
+        d = np.where(np.isfinite(d), d, math.inf)
+        worst = d if worst.size == 0 else np.maximum(worst, d)
     return worst
+
+
+def deviation(result, ref) -> float:
+    """Largest weighed deviation of `result` from `ref` (row_deviation)."""
+    rows = row_deviation(result, ref)
+    return float(rows.max()) if rows.size else 0.0
 
 
 def measure(scene: str, mode: str, tolerance: float, budget_s: float, ref) -> dict:

@@ -118,7 +118,7 @@ def test_model_exchange_joins_openmodelicas_states_to_ours(mass_damper, method, 
     force within 100 x tol of the exact loop, relative to each one's largest value
     (the accuracy the project's figures state for the solver; measured 6.5e-11 with
     DOPRI5 at 1e-10, 1.8e-8 with RODAS3 at 1e-8, both in the FMU's mass.v); the FMU's
-    input equal to the sensor's reading; the run ending at rest at y_eq (3e-6 of the
+    input equal to the sensor's reading (to rounding); the run ending at rest at y_eq (3e-6 of the
     swing left: 1e-5 m)."""
     res = simulate_me(om_pull(mass_damper), STOP, 0.01, tol, method=method,
                       fmi_version=fmi_version, record=RECORD)
@@ -126,7 +126,9 @@ def test_model_exchange_joins_openmodelicas_states_to_ours(mass_damper, method, 
     f = spring_force_on_actuator(x)
     for column, worst in deviation(res, x, f).items():
         assert worst < 100 * tol, column
-    assert np.all(res["om.f"] == res["sensor.f"])
+    # to rounding: between events the engine takes the sensor, a linear map, as its value
+    # at the last event + J (u - u_event) (settings["evaluated_as_linear_maps"])
+    assert np.abs(res["om.f"] - res["sensor.f"]).max() <= 1e-14 * np.abs(res["sensor.f"]).max()
     # the load matters: alone (f = 0) the foreign mass moves otherwise by more than 0.1 m,
     # so a force lost or of the wrong sign on the way back cannot pass
     sigma = OM["d1"] / (2 * OM["m1"])
