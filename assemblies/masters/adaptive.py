@@ -52,8 +52,9 @@ can lengthen, the largest since the run last reset), plus ten times the FMUs'
 tolerance, it
 rejects the step and estimates again: the estimate stays valid while the couplings
 move as they did when it was made. On moving_table, whose step error depends on the
-table's phase, runs of up to 32 without that check ended 5.5e-4 off at tol 1e-3;
-with it 1.2e-5, and runs of 4 did 1.8e-4 (block.s against the monolithic model).
+table's phase, runs of up to 32 without that check ended 2.6e-2 off at tol 1e-2
+and 4.9e-4 at 1e-3; with it 1.7e-3 and 2.4e-5, and runs of 4 did 5.9e-4 and 1.8e-4
+(block.s against the monolithic model).
 
 This is the compiled engine's controller (``judge`` in assemblies/engine/c/cosim.c).
 """

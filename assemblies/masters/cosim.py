@@ -900,7 +900,8 @@ class _Stepper:
                                 ctrl.noise(fine, self.tolerance, h_try), defect, defect_order)
         if ok and not self.shortened:  # the half step found good, kept a while
             ratio = self.h / h_wanted
-            steady = self.coast_done and ratio >= COAST_STEADY and COAST_STEADY * ratio <= 1.0
+            steady = (self.coast_done and ratio >= COAST_STEADY and COAST_STEADY * ratio <= 1.0
+                      and h_try >= COAST_STEADY * h_wanted)  # not cut short (cosim.c)
             self.coast_run = min(2 * self.coast_run, COAST_MAX) if steady else COAST_STEPS
             # the second half step's coupling defect (it has the unjudged steps' length);
             # at the cap the largest since the run last reset (cosim.c says why)

@@ -50,9 +50,9 @@
    rejects the step and estimates again. The estimate then stays valid where the
    coupling moves as it did when it was made, which is what a long run needs: on
    moving_table (a block on a shaken table, where a step's error depends on the
-   table's phase) runs of 32 checked only by step doubling left block.s 7.0e-3 off the
-   monolithic model at tol 1e-2 (5.5e-4 at 1e-3); with the check 1.0e-3 (1.2e-5), and
-   runs of 4 did 5.9e-4 (1.8e-4) with as many doSteps. Measured (benchmarks.cosim_fixed,
+   table's phase) runs of up to 32 checked only by step doubling left block.s 2.6e-2
+   off the monolithic model at tol 1e-2 (4.9e-4 at 1e-3); with the check 1.7e-3
+   (2.4e-5), and runs of 4 did 5.9e-4 (1.8e-4) with as many doSteps. Measured (benchmarks.cosim_fixed,
    --repeats 3, CPU at the same error, runs of 4 -> these): beam_friction_damper vs
    fixed steps 1.31 / 1.61 / 1.24 / 1.20 -> see benchmarks/RESULTS.md (issue 27). */
 #define COAST_MAX 32
@@ -1093,7 +1093,11 @@ static int one_step(cosim *c, double target)
                 /* (the second half step's coupling defect is the reference: it has the
                    unjudged steps' length) */
                 double ratio = h_next / h_wanted;
-                int steady = c->coast_done && ratio >= COAST_STEADY && COAST_STEADY * ratio <= 1.0;
+                /* (a step an output point cut short sets a short run: its half steps
+                   would be the run's length; axle_motor at tol 1e-2 took 1.6x the
+                   doSteps when runs of 32 followed such steps) */
+                int steady = c->coast_done && ratio >= COAST_STEADY && COAST_STEADY * ratio <= 1.0
+                             && h_try >= COAST_STEADY * h_wanted;
                 c->coast_run = !steady ? COAST_STEPS
                                : c->coast_run < COAST_MAX / 2 ? 2 * c->coast_run : COAST_MAX;
                 /* below the cap the defect when the estimate was made: an estimate
