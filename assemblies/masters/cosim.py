@@ -53,11 +53,12 @@ from ..experiment import (FixedStepFallback, check_cosim_settings, check_experim
 from ..foreign import FMU, check_mode
 from ..inputs import with_inputs
 from ..result import Result, Table
-from .adaptive import COAST_STEPS, StepController
+from .adaptive import (COAST_DEFECT_GROWTH, COAST_KEEP, COAST_MAX, COAST_STEADY, COAST_STEPS,
+                       StepController)
 from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
                      fires_at_start, locate_start_event, probe_step)
-from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, is_held,
-                            step_mean)
+from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, end_value,
+                            is_held, step_mean)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
 
@@ -353,6 +354,7 @@ class _Master:
         self.chain_order = [chain_order(self.derivative, k) for k in range(len(couplings))]
         self.defect_tol = math.inf  # the adaptive tolerance (set by the stepper)
         self.defect, self.defect_order = 0.0, 1  # the last step's (chain_defect)
+        self.coupling_defect = 0.0  # ... worst coupling off its extrapolation (chain_defect)
         self.terminated = None
         # no step is ever rolled back (fixed steps): each doStep says so to its FMU
         self.final = False
@@ -449,8 +451,13 @@ class _Master:
                 self._do_step(name, t, h)
                 done.add(name)
         if self.terminated is None:
-            predicted = {k: self._chain_end_value(k, h) for k, d in enumerate(self.derivative)
-                         if d >= 0 and math.isfinite(self.defect_tol)}
+            predicted = {}
+            if math.isfinite(self.defect_tol):
+                for k, d in enumerate(self.derivative):
+                    if d >= 0:
+                        predicted[k] = self._chain_end_value(k, h)
+                    elif k in self.held:
+                        predicted[k] = end_value(self.history[k], h, self.extrapolation)
             self.consistent(t + h)
             self._chain_defect(predicted)
 
@@ -479,13 +486,18 @@ class _Master:
 
     def _chain_defect(self, predicted: dict[int, float]) -> None:
         """The worst chained input's defect at the step's end over its allowance
-        (defect_tol relative to the value), and that chain's order. A chain whose
-        source had an event in the step is left out (cosim.c chain_defect says why)."""
-        self.defect, self.defect_order = 0.0, 1
+        (defect_tol relative to the value), and that chain's order; and the coupling
+        defect, every predicted coupling's (held inputs too) relative to the value. A
+        coupling whose source had an event in the step is left out (cosim.c
+        chain_defect says why)."""
+        self.defect, self.defect_order, self.coupling_defect = 0.0, 1, 0.0
         for k, p in predicted.items():
             if self._source_had_event(k):
                 continue
             u = self._get(*self.couplings[k].target)
+            self.coupling_defect = max(self.coupling_defect, abs(u - p) / (1.0 + abs(u)))
+            if self.derivative[k] < 0:
+                continue
             ratio = abs(u - p) / (self.defect_tol * (1.0 + abs(u)))
             if ratio > self.defect:
                 self.defect, self.defect_order = ratio, self.chain_order[k]
@@ -720,6 +732,9 @@ class _Stepper:
         # settling the modes after an event was cut at an output point (_settle), and
         # the held inputs where it began
         self.unsettled, self.settle_from = False, {}
+        self.coast_run = COAST_STEPS  # the next run's length (adaptive.py COAST_MAX)
+        self.coast_done = False  # the last run ran to its end
+        self.defect_ref = 0.0  # the coupling defect at the last accepted estimate
         self.shortened = False  # the last step was shortened to end at an event in it
         self.steps = 0
         self.events_synchronised = 0
@@ -760,12 +775,13 @@ class _Stepper:
         rolled back (rejected, or a start event moved the run back)."""
         m = self.master
         coasting = self.adaptive and self.coast > 0  # COAST_STEPS (adaptive.py)
-        h_try = self._trial_length(target, self.h_coast if coasting else self.h)
+        h_wanted = self.h_coast if coasting else self.h  # before an output point cuts it
+        h_try = self._trial_length(target, h_wanted)
         if self.unsettled:  # settling was cut at an output point: it goes on from here
             t = self.t
             self._settle(target)
             if self.t > t:
-                self.coast = 0
+                self.coast, self.coast_run, self.coast_done = 0, COAST_STEPS, False
                 self._resample_after(self.located_at)
                 return
             # no room for a settle step before target: step on
@@ -779,17 +795,24 @@ class _Stepper:
             m.hold_raw = False
             return
         if self.adaptive and coasting:
-            ok = m.defect <= 1.0
+            # the motion strayed, or the couplings move unlike when the estimate was made
+            ok = m.defect <= 1.0 and (m.coupling_defect <= COAST_DEFECT_GROWTH * self.defect_ref
+                                      + 10.0 * self.tolerance)
             if ok:
                 self.steps += 1
-            else:  # the motion strayed: estimate again from here
+            else:  # estimate again from here
                 m.restore(self.snap)
                 self.ctrl.rejected += 1
                 self.ctrl.rejected_last = True
-                self.h = h_try
+                # a chain's defect says the step is too long; the coupling's only that
+                # the estimate is due (its halves are this step)
+                self.h = h_try if m.defect > 1.0 else 2.0 * h_try
             self.coast = 0 if self.shortened or not ok else self.coast - 1
+            self.coast_done = self.coast == 0 and ok and not self.shortened
+            if not self.coast_done and self.coast == 0:
+                self.coast_run = COAST_STEPS
         elif self.adaptive:
-            ok, h_try = self._judge(h_try)
+            ok, h_try = self._judge(h_try, h_wanted)
             if m.terminated is not None:  # the model ended the run: keep what it did
                 self.t = m.terminated["time"]
                 return
@@ -861,7 +884,7 @@ class _Stepper:
             self.h_prev = t_event - self.prev.t
         self.located_at = self.t = t_event
         self._settle(target)  # the modes change there, before the next step
-        self.coast = 0
+        self.coast, self.coast_run, self.coast_done = 0, COAST_STEPS, False
         self._resample_after(t_event)
         return True
 
@@ -910,9 +933,11 @@ class _Stepper:
             self.unsettled = False
             m.restart_history(self.settle_from)
 
-    def _judge(self, h_try: float) -> tuple[bool, float]:
-        """Step doubling on the step of `h_try` just taken: redone as two halves, kept
-        (the halves) or rolled back; (accepted?, the length kept). Sets the next step."""
+    def _judge(self, h_try: float, h_wanted: float) -> tuple[bool, float]:
+        """Step doubling on the step of `h_try` just taken (`h_wanted` before an output
+        point cut it): redone as two halves, kept (the halves) or rolled back;
+        (accepted?, the length kept). Sets the next step and the next run of unjudged
+        steps (adaptive.py COAST_MAX)."""
         m, t, ctrl = self.master, self.t, self.ctrl
         coarse = m.state_vector()
         defect, defect_order = m.defect, m.defect_order  # the whole step's, as judged
@@ -944,7 +969,19 @@ class _Stepper:
         ok, self.h = ctrl.judge(ctrl.estimate(coarse, fine), h_try,
                                 ctrl.noise(fine, self.tolerance, h_try), defect, defect_order)
         if ok and not self.shortened:  # the half step found good, kept a while
-            self.coast, self.h_coast = COAST_STEPS, min(h_try, self.h) / 2
+            ratio = self.h / h_wanted
+            steady = (self.coast_done and ratio >= COAST_STEADY and COAST_STEADY * ratio <= 1.0
+                      and h_try >= COAST_STEADY * h_wanted)  # not cut short (cosim.c)
+            self.coast_run = min(2 * self.coast_run, COAST_MAX) if steady else COAST_STEPS
+            # the second half step's coupling defect (it has the unjudged steps' length);
+            # at the cap the largest since the run last reset (cosim.c says why)
+            self.defect_ref = (max(m.coupling_defect, self.defect_ref)
+                               if steady and self.h >= ctrl.h_max else m.coupling_defect)
+            self.coast, self.h_coast = self.coast_run, min(h_try, self.h) / 2
+            self.coast_done = False
+        elif ok or not self.coast_done or self.h < COAST_KEEP * h_wanted:
+            self.coast_run, self.coast_done = COAST_STEPS, False
+        # (else a mild rejection after a run: the step shrinks, the run stays as long)
         if not ok and h_try <= ctrl.min_step(t):  # rejected at the shortest step there is
             raise SimulationError(f"adaptive step fell below {ctrl.min_step(t):.3g} s at t = "
                                   f"{t:g} (tol {ctrl.tol:g} cannot be met)")

@@ -34,14 +34,26 @@ def step_mean(points: list[tuple[float, float]], t: float, h: float, order: int)
     `points` are (time, value), oldest first, with distinct times; fewer points than
     ``order + 1`` lower the degree (the first steps of a run).
     """
+    return float(sum(ck / (k + 1) for k, ck in enumerate(_fit(points, t, h, order))))
+
+
+def end_value(points: list[tuple[float, float]], h: float, order: int) -> float:
+    """Where the polynomial through the last ``order + 1`` points puts the value a step
+    of `h` after the last of them: what the extrapolation expected at the step's end,
+    to compare with what the source returns there (the coupling defect)."""
+    return float(sum(_fit(points, points[-1][0], h, order)))
+
+
+def _fit(points, t, h, order) -> list[float]:
+    """Coefficients, in units of the step from t, of the polynomial through the last
+    ``order + 1`` points."""
     pts = points[-(order + 1):]
     if len(pts) == 1:
-        return pts[0][1]
+        return [pts[0][1]]
     # times in units of the step, from t: the step is [0, 1], which keeps the fit well scaled
     tau = np.array([(p[0] - t) / h for p in pts])
     y = np.array([p[1] for p in pts])
-    c = np.linalg.solve(np.vander(tau, len(pts), increasing=True), y)
-    return float(sum(ck / (k + 1) for k, ck in enumerate(c)))
+    return list(np.linalg.solve(np.vander(tau, len(pts), increasing=True), y))
 
 
 def derivative_inputs(component) -> dict[str, str]:
@@ -82,4 +94,5 @@ def chain_order(derivative: list[int], k: int) -> int:
     return order
 
 
-__all__ = ["ORDERS", "chain_order", "is_held", "derivative_couplings", "derivative_inputs", "step_mean"]
+__all__ = ["ORDERS", "chain_order", "is_held", "derivative_couplings", "derivative_inputs",
+           "end_value", "step_mean"]
