@@ -83,7 +83,9 @@ def test_force_sensor_reads_the_force_it_passes_whichever_side_moves_it():
     assert asm.resolve_causality()["sensor"] == "motion_at_a"
     res = simulate_me(asm, 2.0, 0.1, 1e-10)
     # the sensor passes the spring's pull on to the drive: f = flange_a.f = -tension
-    assert np.all(res["sensor.f"] == -res["spring.f"])
+    # to rounding: between events the engine takes the sensor and the spring as linear
+    # maps, value at the last event + J (u - u_event) (settings["evaluated_as_linear_maps"])
+    assert np.abs(res["sensor.f"] + res["spring.f"]).max() <= 1e-14 * np.abs(res["spring.f"]).max()
     # mass-spring driven at constant speed from rest: x'' = (c/m)(V t - x)
     wn = math.sqrt(10.0)
     t = res["time"]
