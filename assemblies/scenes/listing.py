@@ -106,7 +106,16 @@ def main(argv: list[str]) -> int:
             INDEX_PATH.write_text(text)
         print(f"{INDEX_PATH}: {'rewritten' if changed else 'already current'}")
         return 0
+    usage = ("usage: python -m assemblies.scenes.listing [--index | FILE.md ...]: no argument "
+             "prints the scene table; --index rewrites assemblies/scene_names.py; each FILE.md "
+             "gets the table after its generated-table marker")
+    if any(a.startswith("-") for a in argv):
+        print(usage, file=sys.stderr if argv not in (["-h"], ["--help"]) else sys.stdout)
+        return 0 if argv in (["-h"], ["--help"]) else 2
     for name in argv:
+        if not Path(name).is_file():
+            print(f"{name}: no such file\n{usage}", file=sys.stderr)
+            return 2
         print(f"{name}: {'table rewritten' if rewrite(name) else 'table already current'}")
     return 0
 

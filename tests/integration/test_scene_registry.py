@@ -45,3 +45,15 @@ def test_every_figure_states_a_finite_accuracy_and_passes(name):
         # premise) is exact
         assert math.isfinite(f.accuracy) and math.isfinite(f.bound), f"{name}: {f.name} {f}"
     assert run.passed, run.table()
+
+
+def test_the_listing_tool_answers_a_flag_or_a_missing_file_in_one_line(capsys, tmp_path):
+    """`python -m assemblies.scenes.listing --help` printed a traceback (the flag was read
+    as a file name): a flag gets the usage, a missing file one line and exit status 2."""
+    from assemblies.scenes import listing
+    assert listing.main(["--help"]) == 0
+    assert "usage:" in capsys.readouterr().out
+    assert listing.main(["--bogus"]) == 2
+    assert listing.main([str(tmp_path / "missing.md")]) == 2
+    err = capsys.readouterr().err
+    assert "missing.md: no such file" in err and "Traceback" not in err
