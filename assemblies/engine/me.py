@@ -206,6 +206,7 @@ class _Plan:
         self.loop_first = self.keep.array(C.c_int, [first for first, _, _ in loops])
         self.loop_count = self.keep.array(C.c_int, [count for _, count, _ in loops])
         self.loop_name = self.keep.array(C.c_char_p, [name.encode() for _, _, name in loops])
+
     def set_time_functions(self, flags: list[int], free: list[int], linear: list[int]) -> None:
         if any(flags):
             self.time_function = self.keep.array(C.c_int, flags)
@@ -562,9 +563,15 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
             plan.set_indicator_couplings(names, indicator_couplings(fmus, ordered))
         plan.capped = step_limit_needed(assembly)
         plan.set_rest_groups(rest_groups(names, couplings, fmus))
+        # a loop's Newton solve sets and reads its members itself: none is a linear map
+        # (me.c allocate_linear drops them too; this keeps settings to what runs)
+        in_loops = {end[0] for first, count, _ in loops for c in ordered[first:first + count]
+                    for end in (c.source, c.target)}
+        linear = [flag and name not in in_loops for flag, name in
+                  zip(evaluated_members(assembly, fmus, recorded, ordered, True), names)]
         plan.set_time_functions(evaluated_members(assembly, fmus, recorded, ordered, False),
                                 [int(f.autonomous and f.n_states == 0) for f in fmus.values()],
-                                evaluated_members(assembly, fmus, recorded, ordered, True))
+                                [int(flag) for flag in linear])
         return plan
 
     # the names set before initialisation shape the plan's start lists: an instance given
