@@ -81,7 +81,6 @@ typedef struct {
     eng_loop *loops;      /* per algebraic loop: its Newton solver and last solution */
     int n_loops;
     int *loop_of;         /* per coupling: its loop, -1 */
-    int direct;           /* couple() reads and sets every FMU (propagate) */
     int *loop_dd;         /* per loop: its sources give directional derivatives */
     int *members;         /* 0 .. n_couplings - 1: a loop's couplings for eng_loop_matrix_dd */
     int loop_min_steps;   /* Newton steps a loop takes even when it already converges */
@@ -286,13 +285,12 @@ static int propagate(me_master *M, double *values, double t)
         return eng_propagate(M->fmus, M->spec->couplings, nc, values, &bad)
                    ? failed(M, bad, "evaluating the couplings", t) : 0;
     forget_loop_matrices(M);
-    /* as eng_propagate: every FMU read and set, none taken from time or a linear map
-       (their values at the last event are what this refreshes) */
+    /* as eng_propagate: every FMU read and set (couple() takes none of the plan `all`
+       from time or a linear map: their values at the last event are what this
+       refreshes) */
     M->loop_min_steps = 0;
-    M->direct = 1;
     M->sent_valid = 0;
     rc = couple(M, &M->all, t);
-    M->direct = 0;
     M->loop_min_steps = 1;
     if (rc) return -1;
     if (nc) memcpy(values, M->sent, (size_t)nc * sizeof(double));
@@ -348,6 +346,7 @@ static void linear_values(me_master *M, const coupling_plan *P, int p)
 static int couple(me_master *M, const coupling_plan *P, double t)
 {
     const eng_coupling *c = M->spec->couplings;
+    const int direct = P == &M->all; /* propagate(): every FMU read and set */
     int k, p, j, w, n = P->n_live;
     for (k = 0; k < n; k = P->segment_end[k] + 1) {
         int end = P->segment_end[k], target = -1, n_pending = 0;
@@ -358,11 +357,11 @@ static int couple(me_master *M, const coupling_plan *P, double t)
         for (p = k; p <= end; p = P->run_end[p] + 1) {
             const eng_variable *source = &c[P->live[p]].source;
             int rc;
-            if (M->timed[source->instance] && !M->direct) {
+            if (M->timed[source->instance] && !direct) {
                 timed_values(M, P, p, t);
                 continue;
             }
-            if (M->linear[source->instance] && !M->direct) {
+            if (M->linear[source->instance] && !direct) {
                 linear_values(M, P, p);
                 continue;
             }
@@ -377,7 +376,7 @@ static int couple(me_master *M, const coupling_plan *P, double t)
             p = P->write_order[w];
             j = P->live[p];
             v = c[j].gain * M->read[p];
-            if (M->linear[c[j].target.instance] && !M->direct) { /* set at events only */
+            if (M->linear[c[j].target.instance] && !direct) { /* set at events only */
                 M->lin_u[j] = v;
                 continue;
             }
