@@ -79,5 +79,6 @@ def test_an_assembly_fmu_releases_the_clutch_at_the_end_of_a_dostep(tmp_path):
     t, mode = res["time"], res["clutch.mode"]
     assert np.all(mode[t < T - 1e-9] == 0) and np.all(mode[t > T + 1e-9] != 0)
     w_t = TAU0 * T / (J_IN + J)
-    assert abs(res["inertiaIn.w"][-1] - (w_t + TAU0 * (STOP - T) / J_IN)) < acc * 2
+    w_in_end = w_t + TAU0 * (STOP - T) / J_IN
+    assert abs(res["inertiaIn.w"][-1] - w_in_end) < acc * max(1.0, w_in_end)  # as above
     assert abs(res["clutch.w"][-1] - w_t) < acc
