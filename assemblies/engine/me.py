@@ -176,17 +176,17 @@ class _Plan:
 
     def _buffers(self, start_time, stop_time, step):
         """The output times, the buffers the C writes (rows, when each instance fell
-        asleep) and their addresses: kept for the next run of the same grid, since
+        asleep, until when each was taken from time or as a linear map) and their addresses: kept for the next run of the same grid, since
         numpy's ctypes addresses cost microseconds each, as much as a short run's
         integration (the plan's lock makes the buffers one run's at a time)."""
         if self.grid is None or self.grid[0] != (start_time, stop_time, step):
             times = output_times(stop_time, step, start_time)
             check_output_values(len(times), len(self.column_names), "the output table")
             out = np.empty((len(times), len(self.column_names)))
-            asleep = np.empty(len(self.names))
+            asleep, taken = np.empty(len(self.names)), np.empty(len(self.names))
             dp = C.POINTER(C.c_double)
-            self.grid = ((start_time, stop_time, step), (times, out, asleep, tuple(
-                a.ctypes.data_as(dp) for a in (times, out, asleep))))
+            self.grid = ((start_time, stop_time, step), (times, out, asleep, taken, tuple(
+                a.ctypes.data_as(dp) for a in (times, out, asleep, taken))))
         return self.grid[1]
 
     def set_rest_groups(self, groups: list[int]) -> None:
@@ -230,7 +230,7 @@ class _Plan:
             scheme, jacobian="auto", start_time=0.0) -> tuple[dict, list, dict]:
         """One engine call: (columns, event rows per group, settings)."""
         lib = _engine()
-        times, out, asleep, pointers = self._buffers(start_time, stop_time, step)
+        times, out, asleep, taken, pointers = self._buffers(start_time, stop_time, step)
         asleep.fill(np.inf)
         prog = B.Progress(progress)
         spec = self.spec
@@ -246,8 +246,8 @@ class _Plan:
             if self.loops:
                 spec.n_loops, spec.loop_first, spec.loop_count, spec.loop_name = (
                     len(self.loops), self.loop_first, self.loop_count, self.loop_name)
-        spec.n_times, spec.times, spec.out, spec.asleep_since = (len(times), pointers[0],
-                                                                 pointers[1], pointers[2])
+        spec.n_times, spec.times, spec.out, spec.asleep_since, spec.taken_until = (
+            len(times), *pointers)
         spec.stop_time, spec.tolerance, spec.method = stop_time, tolerance, METHODS[method]
         spec.event_subsamples, spec.jacobian = event_subsamples, JACOBIANS[jacobian]
         spec.max_step = step if self.capped else 0.0
@@ -276,6 +276,7 @@ class _Plan:
         for k, (column, (fmu, var)) in enumerate(zip(self.labels, self.column_vars)):
             table[column] = B.typed_column(lib, fmu, var, rows[:, k])
         by = stats.terminated_by
+        until = {n: float(t) for n, t in zip(self.names, taken)}
         settings = {
             "start_time": start_time, "stop_time": stop_time, "step": step,
             "tolerance": tolerance, "scheme": scheme,
@@ -296,8 +297,12 @@ class _Plan:
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
             "event_location": "whole assembly" if self.indicator_start is None else "per instance",
             "set_at_events_only": list(self.deferred),
-            "evaluated_from_time": list(self.from_time),
-            "evaluated_as_linear_maps": list(self.linear),
+            # what the engine really took so (it refuses some and drops one whose read
+            # fails at an event), not what was asked of it
+            "evaluated_from_time": [n for n in self.from_time if not math.isnan(until[n])],
+            "evaluated_as_linear_maps": [n for n in self.linear if not math.isnan(until[n])],
+            "evaluated_until": {n: until[n] for n in self.from_time + self.linear
+                                if math.isfinite(until[n])},
             "terminated": None if stats.status != B.TERMINATED else
             {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
              "message": message}}

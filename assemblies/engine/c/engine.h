@@ -245,6 +245,11 @@ typedef struct {
        derivatives there times the change of the coupled inputs since. Where a read fails,
        the instance is evaluated as any other. NULL: none. */
     const int *linear_map;
+    /* out, n_instances (or NULL): for each instance taken from time or as a linear map,
+       INFINITY where it was to the end of the run and the time of the event where a read
+       failed and it was evaluated from there on; NAN for one never taken (not asked, or
+       refused: states or indicators, a coupling not a Float64 scalar, a loop's member). */
+    double *taken_until;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

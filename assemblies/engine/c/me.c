@@ -1127,7 +1127,7 @@ static int settle_linear(me_master *M, double t, int recorded)
    the event iteration set it, each coupled output's value, and its directional
    derivative along each coupled input. An instance whose reads fail is evaluated as any
    other from here on: this saves calls, it decides nothing. */
-static void read_linear(me_master *M)
+static void read_linear(me_master *M, double t)
 {
     const eng_coupling *c = M->spec->couplings;
     const double one = 1.0;
@@ -1136,6 +1136,7 @@ static void read_linear(me_master *M)
         const int first = M->lin_in_start[i], n_in = M->lin_in_start[i + 1] - first;
         const int out = M->out_start[i], n_out = M->out_start[i + 1] - out;
         fmu_t *f = M->fmus[i];
+        const int was_ready = M->lin_ready[i];
         int ok;
         if (!M->linear[i]) continue;
         for (a = 0; a < n_in; a++) {
@@ -1154,7 +1155,10 @@ static void read_linear(me_master *M)
             }
         }
         M->lin_ready[i] = ok;
-        if (!ok) M->linear[i] = 0; /* its inputs are as sent[] says: set from here on */
+        if (!ok) { /* its inputs are as sent[] says: set from here on */
+            M->linear[i] = 0;
+            if (M->spec->taken_until) M->spec->taken_until[i] = was_ready ? t : NAN;
+        }
     }
 }
 
@@ -1170,6 +1174,7 @@ static int read_timed(me_master *M, double t)
     for (i = 0; i < M->n && M->any_timed; i++) {
         const int lo = M->x_off[i], nx = M->x_off[i + 1] - lo;
         fmu_t *f = M->fmus[i];
+        const int was_read = !isnan(M->timed_t[i]);
         int ok;
         if (!M->timed[i]) continue;
         M->timed_t[i] = t;
@@ -1186,6 +1191,7 @@ static int read_timed(me_master *M, double t)
         if (!ok) { /* moved with the others from the next set_point on */
             M->timed[i] = 0;
             M->unmoved[i] = M->spec->time_free && M->spec->time_free[i] && nx == 0;
+            if (s->taken_until) s->taken_until[i] = was_read ? t : NAN;
         }
     }
     return M->any_timed && plan_between(M) ? fail(M, "out of memory") : 0;
@@ -1250,7 +1256,7 @@ static int event_iteration(me_master *M, double t, int initial)
                                       (size_t)(M->x_off[i + 1] - M->x_off[i])))
             return failed(M, i, "getting the continuous states", t);
     }
-    read_linear(M);
+    read_linear(M, t);
     return read_timed(M, t);
 }
 
@@ -1887,8 +1893,11 @@ static int allocate(me_master *M)
         M->timed[i] = s->time_function[i] && in->n_event_indicators == 0 &&
                       in->completed_step_not_needed && (in->n_states == 0 || in->state_vr);
         M->any_timed = M->any_timed || M->timed[i];
+        M->timed_t[i] = NAN; /* not read yet: a first read that fails took it never */
     }
     if (allocate_linear(M)) return -1;
+    for (i = 0; i < n && s->taken_until; i++)
+        s->taken_until[i] = M->timed[i] || M->linear[i] ? INFINITY : NAN;
     for (i = 0; i < n; i++) {
         M->unmoved[i] = M->timed[i] || M->linear[i] ||
                         (s->time_free && s->time_free[i] && s->instances[i].n_states == 0);
