@@ -53,7 +53,8 @@ from ..experiment import (FixedStepFallback, check_cosim_settings, check_experim
 from ..foreign import FMU, check_mode
 from ..inputs import with_inputs
 from ..result import Result, Table
-from .adaptive import (COAST_DEFECT_GROWTH, COAST_KEEP, COAST_MAX, COAST_STEADY, COAST_STEPS,
+from .adaptive import (COAST_DEFECT_GROWTH, COAST_GUARDED, COAST_KEEP, COAST_MAX, COAST_STEADY,
+                       COAST_STEPS, cells,
                        StepController)
 from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
                      fires_at_start, locate_start_event, probe_step)
@@ -733,7 +734,9 @@ class _Stepper:
         # the held inputs where it began
         self.unsettled, self.settle_from = False, {}
         self.coast_run = COAST_STEPS  # the next run's length (adaptive.py COAST_MAX)
-        self.coast_done = False  # the last run ran to its end
+        # the last run ran to its end (1), or the coupling defect ended it (COAST_GUARDED)
+        self.coast_done = 0
+        self.coast_extended = False  # the run went on past its end to an output point
         self.defect_ref = 0.0  # the coupling defect at the last accepted estimate
         self.shortened = False  # the last step was shortened to end at an event in it
         self.steps = 0
@@ -775,13 +778,18 @@ class _Stepper:
         rolled back (rejected, or a start event moved the run back)."""
         m = self.master
         coasting = self.adaptive and self.coast > 0  # COAST_STEPS (adaptive.py)
-        h_wanted = self.h_coast if coasting else self.h  # before an output point cuts it
-        h_try = self._trial_length(target, h_wanted)
+        if (self.adaptive and not coasting and self.coast_done == 1 and not self.coast_extended
+                and cells(target - self.t, self.h / 2, not self.ctrl.rejected_last) < 2.0):
+            # the estimate's two halves do not fit before the output point: the run goes
+            # on to it, and the estimate is taken from there (adaptive.py)
+            coasting, self.coast, self.coast_extended = True, 1, True
+        h_wanted = self.h_coast if coasting else self.h  # before the output grid fits it
+        h_try = self._trial_length(target, h_wanted, coasting)
         if self.unsettled:  # settling was cut at an output point: it goes on from here
             t = self.t
             self._settle(target)
             if self.t > t:
-                self.coast, self.coast_run, self.coast_done = 0, COAST_STEPS, False
+                self.coast, self.coast_run, self.coast_done = 0, COAST_STEPS, 0
                 self._resample_after(self.located_at)
                 return
             # no room for a settle step before target: step on
@@ -808,7 +816,8 @@ class _Stepper:
                 # the estimate is due (its halves are this step)
                 self.h = h_try if m.defect > 1.0 else 2.0 * h_try
             self.coast = 0 if self.shortened or not ok else self.coast - 1
-            self.coast_done = self.coast == 0 and ok and not self.shortened
+            self.coast_done = (0 if self.coast > 0 or self.shortened
+                               else 1 if ok else COAST_GUARDED if m.defect <= 1.0 else 0)
             if not self.coast_done and self.coast == 0:
                 self.coast_run = COAST_STEPS
         elif self.adaptive:
@@ -825,15 +834,18 @@ class _Stepper:
         elif ok:
             self._advance(h_try, target)
 
-    def _trial_length(self, target: float, h_try: float) -> float:
+    def _trial_length(self, target: float, h_wanted: float, coasting: bool) -> float:
+        """The step fitted to the output grid (adaptive.py cells): an unjudged one of
+        the equal steps that fill the interval; an estimate two of them, or all that is
+        left. No stretch right after a rejection at that length."""
+        left = target - self.t
         if not self.adaptive:
-            return target - self.t
-        # no sliver before an output point: stretch the step up to 25 % to reach it,
-        # unless the step was just rejected at that length
-        if (self.t + h_try > target
-                or (target - (self.t + h_try) < 0.25 * h_try and not self.ctrl.rejected_last)):
-            h_try = target - self.t
-        return h_try
+            return left
+        stretch = not self.ctrl.rejected_last
+        if coasting:
+            return left / cells(left, h_wanted, stretch)
+        n = cells(left, h_wanted / 2, stretch)
+        return 2.0 * left / n if n >= 2.0 else left
 
     def _step_to_first_event(self, h_try: float, target: float) -> float | None:
         """The step from self.t, shortened to end at the first event inside it; its
@@ -884,7 +896,7 @@ class _Stepper:
             self.h_prev = t_event - self.prev.t
         self.located_at = self.t = t_event
         self._settle(target)  # the modes change there, before the next step
-        self.coast, self.coast_run, self.coast_done = 0, COAST_STEPS, False
+        self.coast, self.coast_run, self.coast_done = 0, COAST_STEPS, 0
         self._resample_after(t_event)
         return True
 
@@ -939,6 +951,7 @@ class _Stepper:
         (accepted?, the length kept). Sets the next step and the next run of unjudged
         steps (adaptive.py COAST_MAX)."""
         m, t, ctrl = self.master, self.t, self.ctrl
+        self.coast_extended = False
         coarse = m.state_vector()
         defect, defect_order = m.defect, m.defect_order  # the whole step's, as judged
         m.restore(self.snap)
@@ -970,17 +983,19 @@ class _Stepper:
                                 ctrl.noise(fine, self.tolerance, h_try), defect, defect_order)
         if ok and not self.shortened:  # the half step found good, kept a while
             ratio = self.h / h_wanted
-            steady = (self.coast_done and ratio >= COAST_STEADY and COAST_STEADY * ratio <= 1.0
-                      and h_try >= COAST_STEADY * h_wanted)  # not cut short (cosim.c)
-            self.coast_run = min(2 * self.coast_run, COAST_MAX) if steady else COAST_STEPS
+            steady = bool(self.coast_done) and ratio >= COAST_STEADY and COAST_STEADY * ratio <= 1.0
+            self.coast_run = (COAST_STEPS if not steady else self.coast_run
+                              if self.coast_done == COAST_GUARDED
+                              else min(2 * self.coast_run, COAST_MAX))
             # the second half step's coupling defect (it has the unjudged steps' length);
             # at the cap the largest since the run last reset (cosim.c says why)
             self.defect_ref = (max(m.coupling_defect, self.defect_ref)
                                if steady and self.h >= ctrl.h_max else m.coupling_defect)
-            self.coast, self.h_coast = self.coast_run, min(h_try, self.h) / 2
-            self.coast_done = False
+            # the run's steps from the step asked for (fitted to the grid as taken)
+            self.coast, self.h_coast = self.coast_run, min(h_wanted, self.h) / 2
+            self.coast_done = 0
         elif ok or not self.coast_done or self.h < COAST_KEEP * h_wanted:
-            self.coast_run, self.coast_done = COAST_STEPS, False
+            self.coast_run, self.coast_done = COAST_STEPS, 0
         # (else a mild rejection after a run: the step shrinks, the run stays as long)
         if not ok and h_try <= ctrl.min_step(t):  # rejected at the shortest step there is
             raise SimulationError(f"adaptive step fell below {ctrl.min_step(t):.3g} s at t = "
