@@ -41,12 +41,16 @@ class _Kinds:
     def __init__(self):
         self.by_key: dict[str, ca.Function] = {}
 
-    def function(self, what: str, member, outputs: list) -> ca.Function:
+    def function(self, what: str, member, outputs: list, used=None) -> ca.Function:
+        """`outputs` of the member's (t, x, q, u, p); with `used`, of its inputs u[used]
+        alone (an output's own: the others are not gathered for it)."""
         outputs = [ca.densify(o) for o in outputs]
-        key = what + ca.Function("kind", member.args, outputs).serialize()
+        args = list(member.args)
+        if used is not None:
+            args[3] = ca.vertcat(ca.SX(0, 1), *[member.u[i] for i in used])
+        key = what + ca.Function("kind", args, outputs).serialize()
         if key not in self.by_key:
-            self.by_key[key] = ca.Function(f"mf_kind{len(self.by_key)}_{what}", member.args,
-                                           outputs)
+            self.by_key[key] = ca.Function(f"mf_kind{len(self.by_key)}_{what}", args, outputs)
         return self.by_key[key]
 
 
@@ -184,18 +188,36 @@ def member_functions(joined, model, c_code: bool = False) -> dict:
         for v in m.inputs:
             if (name, v.name) not in slot:
                 wanted.add(source(name, v.name)[:2])
-    # the outputs of a member that use the same inputs are one function (they share the
-    # work, a friction block's acceleration, support force and friction power), evaluated
+    # the outputs of a member of the same level are one function (they share the work,
+    # a friction block's acceleration, support force and friction power, and each call
+    # costs its arguments' setup: a block's positions and velocities, two functions when
+    # grouped by the inputs they use, are one), of the inputs any of them uses, evaluated
     # for every member once any of them is wanted
     group_of: dict[tuple[str, int], tuple] = {}
     for inst in {inst for inst, _ in wanted}:
         m = members[inst]
-        same: dict[tuple, list[int]] = defaultdict(list)
-        for j in range(m.y.numel()):
-            same[tuple(used_inputs(inst, j))].append(j)
-        for used, js in same.items():
+        same: dict[int, list[int]] = defaultdict(list)
+        for j, v in enumerate(m.outputs):
+            same[level_of(inst, v.name)].append(j)
+        for js in same.values():
+            used = tuple(sorted({i for j in js for i in used_inputs(inst, j)}))
             for j in js:
                 group_of[(inst, j)] = (tuple(js), used)
+    def inputs_of(expr, m) -> tuple:
+        return tuple(i for i in range(m.u.numel()) if ca.depends_on(expr, m.u[i]))
+
+    # a member's derivatives join its outputs of the highest level where every input
+    # they use is known by then (a friction block's accelerations and its derivatives
+    # share the mode logic; a source's travel needs no input): one call less per member
+    fused: dict[str, int] = {}
+    for inst, var in wanted:
+        if (inst, var) not in slot:
+            fused[inst] = max(fused.get(inst, 0), level_of(inst, var))
+    for inst, top in list(fused.items()):
+        m = members[inst]
+        if not m.x.numel() or any(level_of(*source(inst, m.inputs[i].name)[:2]) >= top
+                                  for i in inputs_of(m.xdot, m)):
+            del fused[inst]
     by_level: dict[int, dict] = defaultdict(lambda: defaultdict(list))
     # in the members' order, not the set's (hashed strings: a new order in each process):
     # a map's gathers then read its members' slots in runs and strides instead of a
@@ -207,10 +229,14 @@ def member_functions(joined, model, c_code: bool = False) -> dict:
             if var not in outputs:
                 return {}
             js, used = group_of[(inst, outputs.index(var))]
-            m = members[inst]
-            fn = kinds.function("y" + "_".join(map(str, js)), m, [ca.vertcat(*[m.y[j] for j in js])])
-            if inst not in by_level[level_of(inst, var)][(fn, js, used)]:
-                by_level[level_of(inst, var)][(fn, js, used)].append(inst)
+            m, lvl = members[inst], level_of(inst, var)
+            what, result = "y" + "_".join(map(str, js)), [m.y[j] for j in js]
+            if fused.get(inst) == lvl:
+                what, result = what + "_ode", result + [m.xdot]
+                used = tuple(sorted({*used, *inputs_of(m.xdot, m)}))
+            fn = kinds.function(what, m, [ca.vertcat(*result)], used)
+            if inst not in by_level[lvl][(fn, js, used)]:
+                by_level[lvl][(fn, js, used)].append(inst)
 
     def gather(rows: list[int], gains: list[float], shape) -> ca.MX:
         if not rows:
@@ -239,14 +265,13 @@ def member_functions(joined, model, c_code: bool = False) -> dict:
         m = members[insts[0]]
         ins = [t, gather(x, [1.0] * len(x), (m.x.numel(), k)),
                gather(q, [1.0] * len(q), (m.q.numel(), k)),
-               gather(u, gains, (m.u.numel(), k)), gather(p, [1.0] * len(p), (m.p.numel(), k))]
+               gather(u, gains, (fn.numel_in(3), k)), gather(p, [1.0] * len(p), (m.p.numel(), k))]
         return fn.map(k)(*ins)
 
     def input_rows(inst, used=None):
         rows = []
         for i, v in enumerate(members[inst].inputs):
-            if used is not None and i not in used:
-                rows.append((0, 1.0))
+            if used is not None and i not in used:  # not an argument of the function
                 continue
             if (inst, v.name) in slot:  # open: the composite's own input
                 rows.append((slot[(inst, v.name)], 1.0))
@@ -255,36 +280,46 @@ def member_functions(joined, model, c_code: bool = False) -> dict:
             rows.append((slot[(src, var)], gain))
         return rows
 
+    xdot_at: dict[str, int] = {}
     for lvl in sorted(by_level):
         for (fn, js, used), insts in by_level[lvl].items():
             first = values.add(call(fn, insts, lambda inst, used=used: input_rows(inst, used)))
             calls[-1].firsts = [first]
+            rows = fn.numel_out(0)  # the outputs js, then the derivatives where fused
             for c, inst in enumerate(insts):
                 for r, j in enumerate(js):
-                    slot[(inst, members[inst].outputs[j].name)] = first + c * len(js) + r
+                    slot[(inst, members[inst].outputs[j].name)] = first + c * rows + r
+                if rows > len(js):
+                    for i, v in enumerate(members[inst].states):
+                        xdot_at[f"{inst}.{v.name}"] = first + c * rows + len(js) + i
 
     # --- derivatives, indicators, jumps: every kind mapped over its members ------------
+    # (each function of the inputs it uses: the others are not gathered for it)
     groups: dict[tuple, list[str]] = defaultdict(list)
     for name, m in members.items():
-        groups[(kinds.function("ode", m, [m.xdot]) if m.x.numel() else None,
-                kinds.function("zc", m, [m.z]) if m.z.numel() else None,
-                kinds.function("jump", m, [m.jump_x, m.jump_q])
-                if m.x.numel() or m.q.numel() else None)].append(name)
-    xdot_at, z_at, x_new_at, q_new_at = {}, {}, {}, {}
-    for (ode, zc, jump), insts in groups.items():
-        rows = input_rows
+        ode_u, zc_u = inputs_of(m.xdot, m), inputs_of(m.z, m)
+        jump_u = inputs_of(ca.vertcat(m.jump_x, m.jump_q), m)
+        groups[(kinds.function("ode", m, [m.xdot], ode_u) if m.x.numel() and name not in fused
+                else None, ode_u,
+                kinds.function("zc", m, [m.z], zc_u) if m.z.numel() else None, zc_u,
+                kinds.function("jump", m, [m.jump_x, m.jump_q], jump_u)
+                if m.x.numel() or m.q.numel() else None, jump_u)].append(name)
+    z_at, x_new_at, q_new_at = {}, {}, {}
+    for (ode, ode_u, zc, zc_u, jump, jump_u), insts in groups.items():
+        def rows(used):
+            return lambda inst: input_rows(inst, used)
         if ode is not None:
-            first = values.add(call(ode, insts, rows))
+            first = values.add(call(ode, insts, rows(ode_u)))
             calls[-1].firsts = [first]
             _place(xdot_at, first, insts, lambda i: members[i].states, slot, "x")
         if zc is not None:
-            first = values.add(call(zc, insts, rows))
+            first = values.add(call(zc, insts, rows(zc_u)))
             calls[-1].firsts = [first]
             for c, inst in enumerate(insts):
                 n = members[inst].z.numel()
                 z_at[inst] = list(range(first + c * n, first + (c + 1) * n))
         if jump is not None:
-            jx, jq = call(jump, insts, rows)
+            jx, jq = call(jump, insts, rows(jump_u))
             calls[-1].firsts = [None, None]  # an empty result has no slots
             if jx.numel():
                 calls[-1].firsts[0] = values.add(jx)
