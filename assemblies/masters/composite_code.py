@@ -18,11 +18,19 @@ its arguments gathered from one vector of values by index tables (data, not code
 An output of level L depends, through the inputs it uses, only on outputs of lower
 levels (level 0: states, modes, parameters, open inputs); the connections are resolved
 as :func:`.monolithic.join` resolves them (a connected input is ``gain *`` its source),
-and an input an output does not depend on is given slot 0 (zero), so that one member's
-acceleration output feeding another's unused input is no loop. The code then grows with
-the number of kinds and levels, the tables with the members. CasADi's AD of the maps
-gives ``jac`` and ``dd``. The flattened SX model stays the reference: the same values,
-compared in tests/unit/test_composite_code.py.
+and each function takes only the inputs it uses, so that one member's acceleration
+output feeding another's unused input is no loop. A member's outputs of one level are
+one function, and its derivatives join the outputs of its highest level where the
+inputs they use are known (one call per kind and level: a call's setup, not its few
+flops, is what a member costs). The code then grows with the number of kinds and
+levels, the tables with the members. CasADi's AD of the maps gives ``jac`` and ``dd``.
+
+CasADi's C of the maps copies each argument of each map into a block of its own and
+each result out again; ``ode``, ``out``, ``zc`` and ``jump``, evaluated at every step,
+are instead written by :class:`MemberC` as loops that hand each member's function
+pointers to its own states, modes and parameters and gather only its inputs. The
+flattened SX model stays the reference: the same values, compared in
+tests/unit/test_composite_code.py (the MX functions directly, MemberC's compiled).
 """
 from __future__ import annotations
 
@@ -94,9 +102,10 @@ class _Values:
 
 
 # Below this many SX instructions (derivatives, outputs, indicators, jumps) the flattened
-# expression is kept: gcc builds it in seconds, and its straight-line C runs 2-2.5x
-# faster than the maps' gathers and calls on small assemblies (two_block_belt, 467:
-# 1.5 against 3.2 ms at tolerance 1e-5). The count is of the join's shared graph
+# expression is kept: gcc builds it in seconds, and its straight-line C runs faster
+# than the member loops on small assemblies (a chain of 16 blocks in the engine's
+# monolithic mode: 8.9 against 13.4 us of engine per step; before MemberC the maps ran
+# two_block_belt, 467, at 1.5 against 3.2 ms at tolerance 1e-5). The count is of the join's shared graph
 # (monolithic.substitute_all: a resolved input is one node wherever it is read), but
 # gcc's time follows the C that is written, which did not shrink with it: a chain of
 # 16 blocks (3,594 instructions) builds in 7 s, 32 (7,194) took 30 s of gcc CPU and 88

@@ -165,3 +165,18 @@ def test_member_loops_in_c_compute_what_the_flattened_model_computes(name, monke
             for got, want in zip(_c_call(lib, key, point, sizes), _dense(ref[key](*point))):
                 np.testing.assert_allclose(got, want.ravel(), rtol=1e-12, atol=1e-12,
                                            equal_nan=True, err_msg=f"{name}: {key}")
+
+
+def test_the_chain_derivatives_take_one_call_per_kind_and_level(monkeypatch):
+    """What a mapped composite's right-hand side costs is its calls (each sets up its
+    arguments and gathers its inputs for a few flops): the chain's derivatives take one
+    per member kind and level (the sources' travel with their outputs, the blocks'
+    positions and velocities, the links' forces, the blocks' accelerations with their
+    derivatives), not one per group of outputs that read the same inputs and one more
+    per derivative function (7 calls before)."""
+    monkeypatch.setattr(composite_code, "FLAT_LIMIT", 0)
+    comp = composite(bench_chain(5))
+    code = member_functions(comp.joined, flatten(comp), c_code=True)["c"]
+    needed = code._needed([r for rows in code.results["ode"] for r in rows])
+    assert [code.calls[i].k for i in needed] == [6, 5, 5, 5]  # wall and belts, blocks, links
+    assert [code.calls[i].fn.name().endswith("_ode") for i in needed] == [True, False, False, True]
