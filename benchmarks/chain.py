@@ -47,7 +47,8 @@ A mode whose run exceeds ``--budget`` CPU seconds (default 5) is not run at larg
 nor a mode built from a composite FMU beyond ``--composite-up-to`` blocks (default 256:
 beyond about 18 blocks the composite's C is one function per member kind mapped over the
 members (assemblies/masters/composite_code.py), so its build no longer explodes: n = 256
-in about 4 minutes, where the flattened expression took over ten at n = 64).
+in 10 s of gcc CPU (43 s in all on the loaded machine), where the flattened expression
+took over ten minutes at n = 64).
 Each row also gives the largest |s_i(T) - s_i^ref(T)| over the blocks against the
 composite FMU at tolerance 1e-10 (beyond ``--composite-up-to``: the engine's me at
 1e-10): what the mode computes, not only how fast.
@@ -71,7 +72,7 @@ from components.translational.elements import MassWithFriction, SpringDamper
 SIZES = (2, 4, 8, 16, 32, 64, 128, 256)
 # the composite FMU of the whole chain is CasADi code compiled by gcc: one function per
 # member kind mapped over the members beyond FLAT_LIMIT, so every size builds (n = 256:
-# about 4 minutes once, then cached)
+# under a minute once, then cached)
 COMPOSITE_UP_TO = 256
 STOP_TIME, STEP, TOLERANCE = 10.0, 0.1, 1e-6
 STRETCH = 0.5  # [m] alternating start offsets of the bench case: every block slips at t = 0

@@ -141,13 +141,19 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
                                    ["t", "x", "q", "u", "p"], ["y"])
     functions["dd"] = directional_jacobian(model)
     functions.update(model.component.vectorised_functions(model))  # loops instead of unrolled SX
+    # C written by the component itself for some functions (a composite's member loops):
+    # CasADi writes the functions that C calls, and the rest
+    own = functions.pop("c", None)
     gen = ca.CodeGenerator("model.c", {"with_header": False, "with_export": False,
                                         "casadi_real": "double", "casadi_int": "long long"})
     for key in FUNCTION_ORDER + ("dd",):
-        gen.add(functions[key])
+        if own is None or key not in own.FUNCTIONS:
+            gen.add(functions[key])
+    for kernel in own.kernels if own is not None else ():
+        gen.add(kernel)
     table = variable_table(model)
     n_y = len(model.outputs) + len(model.indicators)
-    lines = [gen.dump(), '#include "model.h"', ""]
+    lines = [gen.dump(), own.text() if own is not None else "", '#include "model.h"', ""]
     lines.append("static const mf_variable variables[] = {")
     for row in table:
         lines.append(f"    {{{_c_string(row.name)}, {row.kind}, {row.index}, {int(row.is_integer)}, "

@@ -410,7 +410,7 @@ class Composite(Component):
         from .composite_code import member_functions, worth_mapping
         if self.joined.looped or not worth_mapping(model):
             return {}
-        return member_functions(self.joined, model)
+        return member_functions(self.joined, model, c_code=True)
 
     def equations(self, e):
         m = self.joined
