@@ -110,10 +110,6 @@ struct cosim {
     double *u;                /* the value last set on each coupling's input */
     double *hist_t, *hist_v;  /* history of held inputs at communication points */
     int *hist_n;
-    /* held inputs: the points, step, origin and coefficients of each one's last fit
-       (held_value), n_couplings x (HISTORY + 1) and x 3 */
-    double *fit_t, *fit_v, *fit_coef, *fit_h, *fit_o;
-    int *fit_n, *fit_m;
     int *in_loop;
     int *done;                /* Gauss–Seidel: instances stepped in this sweep */
     double *asleep_since;     /* per instance: when its group fell asleep; INFINITY: awake */
@@ -275,51 +271,51 @@ static void push_history(cosim *c, int k, double t, double value)
 }
 
 /* Coefficients (in units of h from t) of the polynomial through the last order + 1 of
-   n points; returns how many (at most 3). */
+   n points; returns how many (at most 3). Newton's divided differences expanded about
+   t, the operations of the fmpy master's extrapolation._fit in its order (the two round
+   alike): every held input takes this at every step and again for its end value, where
+   a 3 x 3 elimination with pivoting was a quarter of two_block_belt's CPU time (perf,
+   issue 27). The points are distinct communication points. */
 static int fit_poly(const double *pt, const double *pv, int n, double t, double h, int order,
                     double coef[3])
 {
-    double a[3][4];
-    int m = n < order + 1 ? n : order + 1, i, j, k;
+    int m = n < order + 1 ? n : order + 1;
+    double t0, t1, t2, d01, d12, d012;
     pt += n - m;
     pv += n - m;
-    if (m == 1) {
-        coef[0] = pv[0];
-        return 1;
+    coef[0] = pv[0];
+    if (m == 1) return 1;
+    t0 = (pt[0] - t) / h;
+    t1 = (pt[1] - t) / h;
+    d01 = (pv[1] - pv[0]) / (t1 - t0);
+    if (m == 2) {
+        coef[0] = pv[0] - d01 * t0;
+        coef[1] = d01;
+        return 2;
     }
-    for (i = 0; i < m; i++) { /* Vandermonde in units of the step, from t */
-        double tau = (pt[i] - t) / h, p = 1.0;
-        for (j = 0; j < m; j++) {
-            a[i][j] = p;
-            p *= tau;
-        }
-        a[i][m] = pv[i];
-    }
-    for (k = 0; k < m; k++) { /* Gaussian elimination, partial pivoting */
-        int piv = k;
-        for (i = k + 1; i < m; i++) if (fabs(a[i][k]) > fabs(a[piv][k])) piv = i;
-        if (piv != k) for (j = 0; j <= m; j++) { double s = a[k][j]; a[k][j] = a[piv][j]; a[piv][j] = s; }
-        for (i = k + 1; i < m; i++) {
-            double f = a[i][k] / a[k][k];
-            for (j = k; j <= m; j++) a[i][j] -= f * a[k][j];
-        }
-    }
-    for (k = m - 1; k >= 0; k--) {
-        double s = a[k][m];
-        for (j = k + 1; j < m; j++) s -= a[k][j] * coef[j];
-        coef[k] = s / a[k][k];
-    }
-    return m;
+    t2 = (pt[2] - t) / h;
+    d12 = (pv[2] - pv[1]) / (t2 - t1);
+    d012 = (d12 - d01) / (t2 - t0);
+    coef[0] = pv[0] - d01 * t0 + d012 * t0 * t1;
+    coef[1] = d01 - d012 * (t0 + t1);
+    coef[2] = d012;
+    return 3;
+}
+
+/* Mean over [t, t + h] of the polynomial through the last order + 1 points. */
+static double step_mean(const double *pt, const double *pv, int n, double t, double h, int order)
+{
+    double coef[3], mean = 0.0;
+    int m = fit_poly(pt, pv, n, t, h, order, coef), k;
+    for (k = 0; k < m; k++) mean += coef[k] / (k + 1);
+    return mean;
 }
 
 /* The constant for held input k over [t, t + h]; `now` is its source's value at
-   t_source (t, or t + h where Gauss–Seidel stepped the source already). The fit is kept
-   (fit_*) for held_end_value, which asks for the same polynomial after the step: half
-   of the fits, which were a quarter of two_block_belt's CPU time (perf, issue 27). */
-static double held_value(cosim *c, int k, double t, double h, double t_source, double now)
+   t_source (t, or t + h where Gauss–Seidel stepped the source already). */
+static double held_value(const cosim *c, int k, double t, double h, double t_source, double now)
 {
-    double *pt = c->fit_t + k * (HISTORY + 1), *pv = c->fit_v + k * (HISTORY + 1);
-    double *coef = c->fit_coef + k * 3, mean = 0.0;
+    double pt[HISTORY + 1], pv[HISTORY + 1];
     const double *ht = c->hist_t + k * HISTORY, *hv = c->hist_v + k * HISTORY;
     double eps = 1e-12 * fmax(1.0, fabs(t_source));
     int n = 0, j;
@@ -333,12 +329,7 @@ static double held_value(cosim *c, int k, double t, double h, double t_source, d
     }
     pt[n] = t_source;
     pv[n] = now;
-    c->fit_m[k] = fit_poly(pt, pv, n + 1, t, h, c->cfg->extrapolation, coef);
-    c->fit_n[k] = n + 1;
-    c->fit_h[k] = h;
-    c->fit_o[k] = t;
-    for (j = 0; j < c->fit_m[k]; j++) mean += coef[j] / (j + 1);
-    return mean;
+    return step_mean(pt, pv, n + 1, t, h, c->cfg->extrapolation);
 }
 
 /* ---------------------------------------------------------------------------- */
@@ -363,18 +354,10 @@ static double chain_end_value(const cosim *c, int k, double h)
 static double held_end_value(const cosim *c, int k, double h)
 {
     const double *ht = c->hist_t + k * HISTORY, *hv = c->hist_v + k * HISTORY;
-    const double *coef = c->fit_coef + k * 3;
-    double fresh[3], end = 0.0;
-    int n = c->hist_n[k], m = c->fit_m[k], j;
+    double coef[3], end = 0.0;
+    int n = c->hist_n[k], m, j;
     if (n < 1) return c->u[k];
-    /* the polynomial held_value fitted for the step, where it went through these very
-       points from this origin over this step (the same numbers: the same rounding) */
-    if (!(m > 0 && c->fit_n[k] == n && c->fit_h[k] == h && c->fit_o[k] == ht[n - 1]
-          && memcmp(c->fit_t + k * (HISTORY + 1), ht, (size_t)n * sizeof(double)) == 0
-          && memcmp(c->fit_v + k * (HISTORY + 1), hv, (size_t)n * sizeof(double)) == 0)) {
-        m = fit_poly(ht, hv, n, ht[n - 1], h, c->cfg->extrapolation, fresh);
-        coef = fresh;
-    }
+    m = fit_poly(ht, hv, n, ht[n - 1], h, c->cfg->extrapolation, coef);
     for (j = 0; j < m; j++) end += coef[j]; /* at tau = 1: t + h */
     return end;
 }
@@ -1024,7 +1007,7 @@ static void anchor(cosim *c, double t0)
         int ok = 1, x = 0;
         c->fmu_time[i] = t0;
         if (!c->evaluated[i]) continue;
-        for (j = 0; j < g->n_states && j >= 0; j++) /* its states, contiguous in `states` */
+        for (j = 0; j < g->n_states; j++) /* its states, contiguous in `states` */
             if (g->states[j].instance == i) { x = j; break; }
         if (c->evaluated[i] == EVAL_TIME && nx) {
             dx = c->ev_dx + x;
@@ -1072,15 +1055,6 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->hist_t = (double *)calloc((size_t)n_c * HISTORY, sizeof(double));
     c->hist_v = (double *)calloc((size_t)n_c * HISTORY, sizeof(double));
     c->hist_n = (int *)calloc((size_t)n_c, sizeof(int));
-    c->fit_t = (double *)calloc((size_t)n_c * (HISTORY + 1), sizeof(double));
-    c->fit_v = (double *)calloc((size_t)n_c * (HISTORY + 1), sizeof(double));
-    c->fit_coef = (double *)calloc((size_t)n_c * 3, sizeof(double));
-    c->fit_h = (double *)calloc((size_t)n_c, sizeof(double));
-    c->fit_o = (double *)calloc((size_t)n_c, sizeof(double));
-    c->fit_n = (int *)calloc((size_t)n_c, sizeof(int));
-    c->fit_m = (int *)calloc((size_t)n_c, sizeof(int));
-    if (!c->fit_t || !c->fit_v || !c->fit_coef || !c->fit_h || !c->fit_o || !c->fit_n || !c->fit_m)
-        return fail(c, "out of memory");
     c->in_loop = (int *)calloc((size_t)n_c, sizeof(int));
     c->done = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
     c->moving = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
@@ -1563,13 +1537,6 @@ static void destroy(cosim *c)
     free(c->hist_t);
     free(c->hist_v);
     free(c->hist_n);
-    free(c->fit_t);
-    free(c->fit_v);
-    free(c->fit_coef);
-    free(c->fit_h);
-    free(c->fit_o);
-    free(c->fit_n);
-    free(c->fit_m);
     free(c->in_loop);
     free(c->done);
     free(c->moving);
