@@ -179,7 +179,12 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     Ctrl-C (or an exception in `progress`, raised again afterwards) stops the run
     cleanly, keeping the rows computed (``settings["stopped"]``). With
     ``**DEFAULT_SCHEME`` a friction assembly comes out right (module doc). `inputs`:
-    a table feeding open inputs (:mod:`assemblies.inputs`).
+    a table feeding open inputs (:mod:`assemblies.inputs`). Kinematic sources whose
+    outputs are exact functions of time (ConstantSpeed) and members with no states whose
+    coupled outputs are fixed linear maps of their inputs (springs, sensors) are not
+    stepped: the master evaluates them, and brings their FMUs up to date where a row
+    records them (EVALUATE_MEMBERS; ``settings["evaluated_from_time"]`` and
+    ``["evaluated_as_linear_maps"]`` name them).
     """
     check_experiment(stop_time, step, tolerance, start_time=start_time)
     assembly = with_inputs(assembly, inputs)
