@@ -41,6 +41,7 @@ from .binding import (FAILED, PROGRESS_FN, STOPPED, TERMINATED, Coupling, Engine
                       InstanceSpec, Keep, Progress, Stats, Variable, declare, typed_column,
                       instance_spec, run_events)
 from .build import library
+from .me import evaluated_members
 from .prepare import prepared, record_columns, rest_groups
 from .restore import inexact_restores
 
@@ -60,6 +61,13 @@ EVENT_TOL = 1e-10  # width of the final bracket when an event is moved back [s]
 # conveyor at tol 1e-2 436 -> 169 ms (1.2e-5 -> 4.7e-6), two_block_belt at tol 1e-4
 # 249 -> 150 ms (1.5e-5 -> 1.4e-5).
 DEFAULT_SCHEME = {"adaptive": True, "extrapolation": 2, "tol": 1e-5}
+
+# Members the master evaluates itself between the points that need their FMUs (cosim.h
+# eng_cosim_spec.time_function / .linear_map): kinematic sources from time, stateless
+# springs and sensors as linear maps of their inputs, as the engine's me does
+# (me.evaluated_members). In exact arithmetic this changes nothing; False steps every
+# member, which tests use as the independent path to compare with.
+EVALUATE_MEMBERS = True
 
 _P = C.POINTER
 _INT = _P(C.c_int)
@@ -81,7 +89,8 @@ class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
                 ("max_loop_iterations", C.c_int), ("newton", C.c_int), ("event_sync", C.c_int),
                 ("event_tol", C.c_double), ("progress", PROGRESS_FN),
                 ("progress_ctx", C.c_void_p), ("derivatives", _P(Variable)),
-                ("rest_group", _INT), ("asleep_since", _P(C.c_double))]
+                ("rest_group", _INT), ("asleep_since", _P(C.c_double)),
+                ("time_function", _INT), ("linear_map", _INT), ("evaluated", _INT)]
 
 
 class _CosimStats(C.Structure):  # cosim.h: eng_cosim_stats
@@ -170,7 +179,12 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     Ctrl-C (or an exception in `progress`, raised again afterwards) stops the run
     cleanly, keeping the rows computed (``settings["stopped"]``). With
     ``**DEFAULT_SCHEME`` a friction assembly comes out right (module doc). `inputs`:
-    a table feeding open inputs (:mod:`assemblies.inputs`).
+    a table feeding open inputs (:mod:`assemblies.inputs`). Kinematic sources whose
+    outputs are exact functions of time (ConstantSpeed) and members with no states whose
+    coupled outputs are fixed linear maps of their inputs (springs, sensors) are not
+    stepped: the master evaluates them, and brings their FMUs up to date where a row
+    records them (EVALUATE_MEMBERS; ``settings["evaluated_from_time"]`` and
+    ``["evaluated_as_linear_maps"]`` name them).
     """
     check_experiment(stop_time, step, tolerance, start_time=start_time)
     assembly = with_inputs(assembly, inputs)
@@ -234,6 +248,15 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     spec.asleep_since = keep.numpy(asleep, C.c_double)
     columns = record_columns(fmus, record)
     spec.n_columns, spec.columns = len(columns), keep.array(Variable, [var(i, v) for i, v in columns])
+    evaluated = np.zeros(len(names), dtype=np.intc)
+    if EVALUATE_MEMBERS:
+        # a time function's recorded columns are read after one doStep over the time it
+        # lagged, a linear map's after its inputs are set: recorded ones qualify too
+        spec.time_function = keep.array(C.c_int, evaluated_members(
+            assembly, fmus, [], couplings, False, cosim=True))
+        spec.linear_map = keep.array(C.c_int, evaluated_members(
+            assembly, fmus, [], couplings, True, cosim=True))
+        spec.evaluated = keep.numpy(evaluated, C.c_int)
 
     times = output_times(stop_time, step, start_time)
     check_output_values(len(times), 1 + len(columns), f"assembly '{assembly.name}'")
@@ -288,6 +311,9 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                 "inexact_restore": inexact or None,
                 "at_rest_from": None if math.isinf(cstats.at_rest_from) else cstats.at_rest_from,
                 "asleep": {n: float(t) for n, t in zip(names, asleep) if math.isfinite(t)},
+                # the members the master took from time or as linear maps (as me's settings)
+                "evaluated_from_time": [n for n, e in zip(names, evaluated) if e == 1],
+                "evaluated_as_linear_maps": [n for n, e in zip(names, evaluated) if e == 2],
                 # each of our FMUs' own solver; "auto" switches inside the FMU (its
                 # logSolver messages say which method each doStep ended with)
                 "solver": {n: SOLVER_METHODS[2 if c.solver is None else c.solver]

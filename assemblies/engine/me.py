@@ -402,12 +402,14 @@ _facts: dict = {}
 
 
 def evaluated_members(assembly: Assembly, fmus: dict, columns: list, couplings,
-                      linear: bool) -> list[int]:
+                      linear: bool, cosim: bool = False) -> list[int]:
     """eng_me_spec.time_function (is_time_function) or, with `linear`, .linear_map
     (is_linear_map, on the outputs `couplings` read) per instance: ours, with the
     directional derivatives that give each coupled output's rate, no step end to be told
     of, and, for a time function, no recorded column (a column reads the instance, which
-    is not called between events; a linear map's inputs are set before a row instead)."""
+    is not called between events; a linear map's inputs are set before a row instead).
+    `cosim`: the same for the co-simulation master (eng_cosim_spec), through the FMUs'
+    Co-Simulation interface, which has no step end to tell."""
     recorded = {name for name, _ in columns}
     read = {name: set() for name in fmus}
     for c in couplings:
@@ -416,8 +418,9 @@ def evaluated_members(assembly: Assembly, fmus: dict, columns: list, couplings,
     for name, comp in assembly.components.items():
         fmu = fmus[name]
         flags.append(int(isinstance(comp, Component) and (linear or name not in recorded)
-                         and fmu.n_event_indicators == 0 and fmu.completed_step_not_needed
-                         and fmu.me_directional_derivative
+                         and fmu.n_event_indicators == 0
+                         and (fmu.provides_directional_derivative if cosim
+                              else fmu.completed_step_not_needed and fmu.me_directional_derivative)
                          and len(fmu.states) == len(fmu.derivatives) == fmu.n_states
                          and (is_linear_map(comp, read[name]) if linear
                               else is_time_function(comp))))

@@ -21,8 +21,6 @@ or an FMU-side chain (a jerk input), which our FMUs do not offer.
 """
 from __future__ import annotations
 
-import numpy as np
-
 from components.dae import flatten
 
 ORDERS = (0, 1, 2)
@@ -46,14 +44,26 @@ def end_value(points: list[tuple[float, float]], h: float, order: int) -> float:
 
 def _fit(points, t, h, order) -> list[float]:
     """Coefficients, in units of the step from t, of the polynomial through the last
-    ``order + 1`` points."""
+    ``order + 1`` points (at most 3): Newton's divided differences expanded about t, the
+    same operations in the same order as the engine's fit_poly (cosim.c), so that the two
+    masters round alike (a solve of the Vandermonde system costs the engine a quarter of
+    its time on two_block_belt; issue 27)."""
     pts = points[-(order + 1):]
+    if len(pts) > 3:
+        raise ValueError(f"extrapolation order {order}: at most 2")
+    v0 = float(pts[0][1])
     if len(pts) == 1:
-        return [pts[0][1]]
+        return [v0]
     # times in units of the step, from t: the step is [0, 1], which keeps the fit well scaled
-    tau = np.array([(p[0] - t) / h for p in pts])
-    y = np.array([p[1] for p in pts])
-    return list(np.linalg.solve(np.vander(tau, len(pts), increasing=True), y))
+    t0, t1 = (pts[0][0] - t) / h, (pts[1][0] - t) / h
+    v1 = float(pts[1][1])
+    d01 = (v1 - v0) / (t1 - t0)
+    if len(pts) == 2:
+        return [v0 - d01 * t0, d01]
+    t2, v2 = (pts[2][0] - t) / h, float(pts[2][1])
+    d12 = (v2 - v1) / (t2 - t1)
+    d012 = (d12 - d01) / (t2 - t0)
+    return [v0 - d01 * t0 + d012 * t0 * t1, d01 - d012 * (t0 + t1), d012]
 
 
 def derivative_inputs(component) -> dict[str, str]:

@@ -18,6 +18,7 @@ from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
 from assemblies import Assembly, AssemblyError
+from assemblies.engine import cosim as engine_cosim
 from assemblies.engine.cosim import DEFAULT_SCHEME, cosimulate
 from assemblies.experiment import FixedStepFallback
 from assemblies.foreign import FMU
@@ -40,12 +41,15 @@ def same_as(fmu_result, python_result, columns):
 
 
 @pytest.mark.parametrize("fmi", FMI_VERSIONS)
-def test_friction_assembly_fmu_equals_the_run_from_python(tmp_path, fmi):
+def test_friction_assembly_fmu_equals_the_run_from_python(tmp_path, fmi, monkeypatch):
     """two_block_belt: two friction blocks joined by a spring on a moving belt, the
     scene whose slip onsets the default co-simulation must place right. Its events are
     moved back inside doStep (a probe at each communication point finds an onset that
     crossed in the last internal step), so it matches the Python-side run exactly; the
-    scene's own first-slip figure is checked on the FMU's output too."""
+    scene's own first-slip figure is checked on the FMU's output too. The exported master
+    steps every member (its description carries no evaluated members: cosim.h
+    time_function / linear_map are NULL there), so the Python-side run does too; with
+    the belts taken from time it differs by their stepped travel's roundings (1.2e-10)."""
     sc = scene("two_block_belt")
     path = export_fmu(sc.build(), tmp_path / f"belt{fmi}.fmu", fmi=fmi, outputs=sc.record,
                       stop_time=sc.stop_time, step=sc.step, tolerance=sc.tolerance)
@@ -54,6 +58,7 @@ def test_friction_assembly_fmu_equals_the_run_from_python(tmp_path, fmi):
     assert "resources/assembly.txt" in names
     assert any(n.startswith("resources/block1/binaries/") for n in names)  # members carried
     via_fmu = simulate_fmu(str(path), stop_time=sc.stop_time, output_interval=sc.step)
+    monkeypatch.setattr(engine_cosim, "EVALUATE_MEMBERS", False)
     python = cosimulate(sc.build(), sc.stop_time, sc.step, sc.tolerance, record=sc.record,
                         **DEFAULT_SCHEME)
     same_as(via_fmu, python, sc.record)

@@ -100,6 +100,12 @@ typedef struct {
     int terminated, terminated_instance;
     double terminated_time;
     double t;
+    /* the members the master evaluates (cosim.evaluated): the inputs it keeps for them,
+       where each FMU stood and which of its up-to-date points fmu_state[i] holds (its
+       FMU state is got again only when it moved since) */
+    double *u;
+    double *fmu_time;
+    long *version;
 } snapshot;
 
 /* Step controller of adaptive.py: error per unit step, exponent 1/p. Its shortest step
@@ -154,7 +160,24 @@ struct cosim {
     double h_prev;            /* the last accepted step, which ended at t */
     double located_at;        /* the last start-of-step event moved back to here */
     int have_prev;            /* snap[1] holds the start of that step: an event may move into it */
+    /* members evaluated by the master (eng_cosim_spec.time_function / .linear_map; anchor):
+       evaluated[i] EVAL_TIME or EVAL_LINEAR while they are, from the start of the run. By
+       coupling out of one: ev_y0 its source value at the start (no gain), ev_rate its
+       rate (EVAL_TIME) or ev_row the start of its row of d output / d input in ev_J over
+       the couplings into its instance, ev_in[ev_in_start[i] .. ev_in_start[i + 1] - 1];
+       by coupling into one: ev_u0 its input at the start. By state (`states`): ev_x0 and
+       ev_dx where its instance is EVAL_TIME. */
+    int *evaluated, any_evaluated, *recorded;
+    int *ev_in_start, *ev_in, *ev_row;
+    double *ev_y0, *ev_rate, *ev_u0, *ev_J, *ev_x0, *ev_dx;
+    double ev_t0;             /* the start: where every constant above was read */
+    double t_now;             /* where the last step() left the stepped members */
+    int *stale;               /* per instance: its FMU's inputs lag the master's */
+    double *fmu_time;         /* per instance: where its FMU stands (an evaluated one lags) */
+    long *version, versions;  /* per instance: its FMU's up-to-date point (a counter) */
 };
+
+enum { EVAL_NONE = 0, EVAL_TIME = 1, EVAL_LINEAR = 2 };
 
 /* ---------------------------------------------------------------------------- */
 /* messages and FMU calls                                                          */
@@ -174,10 +197,30 @@ static int fmu_fail(cosim *c, int i, const char *what, double t)
     return -1;
 }
 
+/* Coupled output k of an evaluated member at t, from the constants of the start. */
+static double evaluated_value(const cosim *c, int k, double t)
+{
+    const int i = c->cfg->couplings[k].source.instance;
+    double y = c->ev_y0[k];
+    int a;
+    if (c->evaluated[i] == EVAL_TIME) return y + c->ev_rate[k] * (t - c->ev_t0);
+    for (a = c->ev_in_start[i]; a < c->ev_in_start[i + 1]; a++) {
+        const int j = c->ev_in[a];
+        y += c->ev_J[c->ev_row[k] + a - c->ev_in_start[i]] * (c->u[j] - c->ev_u0[j]);
+    }
+    return y;
+}
+
+/* Coupled output k at t: its source FMU holds it (stepped to t, or a member whose
+   outputs follow its inputs), or the master evaluates it. */
 static int source_value(cosim *c, int k, double t, double *value)
 {
     const eng_variable *v = &c->cfg->couplings[k].source;
     double y;
+    if (c->any_evaluated && c->evaluated[v->instance]) {
+        *value = c->cfg->couplings[k].gain * evaluated_value(c, k, t);
+        return 0;
+    }
     if (eng_get_value(c->fmus[v->instance], v, &y))
         return fmu_fail(c, v->instance, "get of a coupled output", t);
     *value = c->cfg->couplings[k].gain * y;
@@ -187,6 +230,11 @@ static int source_value(cosim *c, int k, double t, double *value)
 static int set_input(cosim *c, int k, double value, double t)
 {
     const eng_variable *v = &c->cfg->couplings[k].target;
+    if (c->any_evaluated && c->evaluated[v->instance]) { /* kept here, set when it is read */
+        c->u[k] = value;
+        c->stale[v->instance] = 1;
+        return 0;
+    }
     if (eng_set_value(c->fmus[v->instance], v, value))
         return fmu_fail(c, v->instance, "set of a coupled input", t);
     c->u[k] = value;
@@ -241,41 +289,35 @@ static void push_history(cosim *c, int k, double t, double value)
 }
 
 /* Coefficients (in units of h from t) of the polynomial through the last order + 1 of
-   n points; returns how many (at most 3). */
+   n points; returns how many (at most 3). Newton's divided differences expanded about
+   t, the operations of the fmpy master's extrapolation._fit in its order (the two round
+   alike): every held input takes this at every step and again for its end value, where
+   a 3 x 3 elimination with pivoting was a quarter of two_block_belt's CPU time (perf,
+   issue 27). The points are distinct communication points. */
 static int fit_poly(const double *pt, const double *pv, int n, double t, double h, int order,
                     double coef[3])
 {
-    double a[3][4];
-    int m = n < order + 1 ? n : order + 1, i, j, k;
+    int m = n < order + 1 ? n : order + 1;
+    double t0, t1, t2, d01, d12, d012;
     pt += n - m;
     pv += n - m;
-    if (m == 1) {
-        coef[0] = pv[0];
-        return 1;
+    coef[0] = pv[0];
+    if (m == 1) return 1;
+    t0 = (pt[0] - t) / h;
+    t1 = (pt[1] - t) / h;
+    d01 = (pv[1] - pv[0]) / (t1 - t0);
+    if (m == 2) {
+        coef[0] = pv[0] - d01 * t0;
+        coef[1] = d01;
+        return 2;
     }
-    for (i = 0; i < m; i++) { /* Vandermonde in units of the step, from t */
-        double tau = (pt[i] - t) / h, p = 1.0;
-        for (j = 0; j < m; j++) {
-            a[i][j] = p;
-            p *= tau;
-        }
-        a[i][m] = pv[i];
-    }
-    for (k = 0; k < m; k++) { /* Gaussian elimination, partial pivoting */
-        int piv = k;
-        for (i = k + 1; i < m; i++) if (fabs(a[i][k]) > fabs(a[piv][k])) piv = i;
-        if (piv != k) for (j = 0; j <= m; j++) { double s = a[k][j]; a[k][j] = a[piv][j]; a[piv][j] = s; }
-        for (i = k + 1; i < m; i++) {
-            double f = a[i][k] / a[k][k];
-            for (j = k; j <= m; j++) a[i][j] -= f * a[k][j];
-        }
-    }
-    for (k = m - 1; k >= 0; k--) {
-        double s = a[k][m];
-        for (j = k + 1; j < m; j++) s -= a[k][j] * coef[j];
-        coef[k] = s / a[k][k];
-    }
-    return m;
+    t2 = (pt[2] - t) / h;
+    d12 = (pv[2] - pv[1]) / (t2 - t1);
+    d012 = (d12 - d01) / (t2 - t0);
+    coef[0] = pv[0] - d01 * t0 + d012 * t0 * t1;
+    coef[1] = d01 - d012 * (t0 + t1);
+    coef[2] = d012;
+    return 3;
 }
 
 /* Mean over [t, t + h] of the polynomial through the last order + 1 points. */
@@ -503,6 +545,7 @@ static int do_step(cosim *c, int i, double t, double h)
     fmu_step_result r;
     int rc;
     if (c->asleep_since[i] <= t) return 0; /* its group stands still for good */
+    if (c->any_evaluated && c->evaluated[i]) return 0; /* the master evaluates it (bring_up) */
     memset(&r, 0, sizeof r);
     c->stats->do_steps++;
     in->step_start = t;
@@ -516,6 +559,37 @@ static int do_step(cosim *c, int i, double t, double h)
         /* where it stopped, within the step (an FMU without fmi2LastSuccessfulTime
            reports the step's end) */
         c->terminated_time = fmax(t, fmin(r.last_time, t + h));
+    }
+    return 0;
+}
+
+/* An evaluated member's FMU brought to where the master stands at t: its inputs set to
+   the master's, and a time function stepped over the time it lagged (one doStep: its
+   derivatives are constants, which its runtime takes in one stride). */
+static int bring_up(cosim *c, int i, double t)
+{
+    const eng_cosim_spec *g = c->cfg;
+    int a;
+    if (!c->any_evaluated || !c->evaluated[i]) return 0;
+    if (c->stale[i]) {
+        for (a = c->ev_in_start[i]; a < c->ev_in_start[i + 1]; a++) {
+            const int k = c->ev_in[a];
+            if (eng_set_value(c->fmus[i], &g->couplings[k].target, c->u[k]))
+                return fmu_fail(c, i, "set of a coupled input", t);
+        }
+        c->stale[i] = 0;
+        c->version[i] = ++c->versions;
+    }
+    if (c->evaluated[i] == EVAL_TIME && t > c->fmu_time[i]) {
+        fmu_step_result r;
+        memset(&r, 0, sizeof r);
+        c->stats->do_steps++;
+        c->inst[i].step_start = c->fmu_time[i];
+        if (step_failed(fmu_do_step(c->inst[i].fmu, c->fmu_time[i], t - c->fmu_time[i],
+                                    !(g->adaptive || g->event_sync), &r), &r))
+            return fmu_fail(c, i, "doStep", c->fmu_time[i]);
+        c->fmu_time[i] = t;
+        c->version[i] = ++c->versions;
     }
     return 0;
 }
@@ -556,8 +630,8 @@ static int step(cosim *c, double t, double h)
                 ahead = done[g->couplings[k].source.instance];
                 if (c->in_loop[k] && !(g->held[k] && extrapolate))
                     continue; /* keeps the loop's consistent value from t */
-                if (ahead || !c->in_loop[k]) {
-                    if (source_value(c, k, t, &now)) { status = -1; break; }
+                if (ahead || !c->in_loop[k]) { /* (a source stepped already stands at t + h) */
+                    if (source_value(c, k, ahead ? t + h : t, &now)) { status = -1; break; }
                 } else {
                     now = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
                 }
@@ -571,6 +645,7 @@ static int step(cosim *c, double t, double h)
         if (status) return -1;
     }
     if (c->terminated) return 0;
+    c->t_now = t + h;
     predict_chains(c, h);
     if (consistent(c, t + h)) return -1;
     chain_defect(c);
@@ -588,7 +663,11 @@ static int snap_alloc(cosim *c, snapshot *s)
     s->hist_v = (double *)calloc((size_t)n * HISTORY, sizeof(double));
     s->hist_n = (int *)calloc((size_t)n, sizeof(int));
     s->n_events = (long *)calloc((size_t)c->cfg->n_instances, sizeof(long));
-    return s->fmu_state && s->hist_t && s->hist_v && s->hist_n && s->n_events ? 0 : -1;
+    s->u = (double *)calloc((size_t)n, sizeof(double));
+    s->fmu_time = (double *)calloc((size_t)c->cfg->n_instances + 1, sizeof(double));
+    s->version = (long *)calloc((size_t)c->cfg->n_instances + 1, sizeof(long));
+    return s->fmu_state && s->hist_t && s->hist_v && s->hist_n && s->n_events && s->u
+           && s->fmu_time && s->version ? 0 : -1;
 }
 
 static void snap_free(cosim *c, snapshot *s)
@@ -602,6 +681,9 @@ static void snap_free(cosim *c, snapshot *s)
     free(s->hist_v);
     free(s->hist_n);
     free(s->n_events);
+    free(s->u);
+    free(s->fmu_time);
+    free(s->version);
     memset(s, 0, sizeof *s);
 }
 
@@ -609,10 +691,18 @@ static int save(cosim *c, snapshot *s, double t)
 {
     int i, n = c->cfg->n_couplings;
     for (i = 0; i < c->cfg->n_instances; i++) {
-        if (fmu_get_state(c->inst[i].fmu, &s->fmu_state[i]) != FMU_OK)
-            return fmu_fail(c, i, "getFMUState", t);
+        const int evaluated = c->any_evaluated && c->evaluated[i];
+        /* an evaluated member's FMU moves only where it is brought up to date: a state
+           this snapshot holds already is still its state */
+        if (!evaluated || !s->fmu_state[i] || s->version[i] != c->version[i]) {
+            if (fmu_get_state(c->inst[i].fmu, &s->fmu_state[i]) != FMU_OK)
+                return fmu_fail(c, i, "getFMUState", t);
+            s->version[i] = c->version[i];
+        }
+        s->fmu_time[i] = c->fmu_time[i];
         s->n_events[i] = c->inst[i].events->n_rows;
     }
+    if (c->any_evaluated) memcpy(s->u, c->u, (size_t)n * sizeof(double));
     memcpy(s->hist_t, c->hist_t, (size_t)n * HISTORY * sizeof(double));
     memcpy(s->hist_v, c->hist_v, (size_t)n * HISTORY * sizeof(double));
     memcpy(s->hist_n, c->hist_n, (size_t)n * sizeof(int));
@@ -625,8 +715,14 @@ static int save(cosim *c, snapshot *s, double t)
 
 static int restore_instance(cosim *c, const snapshot *s, int i)
 {
-    if (fmu_set_state(c->inst[i].fmu, s->fmu_state[i]) != FMU_OK)
+    const int evaluated = c->any_evaluated && c->evaluated[i];
+    if ((!evaluated || c->version[i] != s->version[i])
+        && fmu_set_state(c->inst[i].fmu, s->fmu_state[i]) != FMU_OK)
         return fmu_fail(c, i, "setFMUState", s->t);
+    if (evaluated) {
+        c->version[i] = s->version[i];
+        c->fmu_time[i] = s->fmu_time[i];
+    }
     c->inst[i].events->n_rows = s->n_events[i]; /* events of a step that did not count */
     return 0;
 }
@@ -646,21 +742,32 @@ static int restore(cosim *c, const snapshot *s)
     c->terminated = s->terminated;
     c->terminated_instance = s->terminated_instance;
     c->terminated_time = s->terminated_time;
-    /* the inputs are part of each FMU's state; read them back into the master's copy */
+    /* the inputs are part of each FMU's state; read them back into the master's copy
+       (an evaluated member's are the master's own: from the snapshot) */
     for (k = 0; k < n; k++) {
         const eng_variable *v = &g->couplings[k].target;
+        if (c->any_evaluated && c->evaluated[v->instance]) {
+            c->u[k] = s->u[k];
+            c->stale[v->instance] = 1;
+            continue;
+        }
         if (eng_get_value(c->fmus[v->instance], v, &c->u[k]))
             return fmu_fail(c, v->instance, "get of a coupled input", s->t);
     }
     return 0;
 }
 
+/* The states where the last step() ended (an evaluated time function's from time). */
 static int state_vector(cosim *c, double *x, double t)
 {
     const eng_cosim_spec *g = c->cfg;
     int j;
     for (j = 0; j < g->n_states; j++) {
         const eng_variable *v = &g->states[j];
+        if (c->any_evaluated && c->evaluated[v->instance] == EVAL_TIME) {
+            x[j] = c->ev_x0[j] + c->ev_dx[j] * (c->t_now - c->ev_t0);
+            continue;
+        }
         if (eng_get_value(c->fmus[v->instance], v, &x[j]))
             return fmu_fail(c, v->instance, "get of a state", t);
     }
@@ -699,7 +806,8 @@ static int fires_at_start(cosim *c, const int *which, double t, double h_probe, 
     *fires = 0;
     for (i = 0; i < c->cfg->n_instances && !*fires; i++) {
         instance *in = &c->inst[i];
-        if (!which[i]) continue;
+        /* (an evaluated member has no indicators: nothing fires in it) */
+        if (!which[i] || (c->any_evaluated && c->evaluated[i])) continue;
         if (fmu_get_state(in->fmu, &p->fmu_state[i]) != FMU_OK) return fmu_fail(c, i, "getFMUState", t);
         p->n_events[i] = in->events->n_rows;
         in->event_at_start = 0;
@@ -831,14 +939,120 @@ static int settle(cosim *c, double target)
 static int sample(cosim *c, double t, double *row)
 {
     const eng_cosim_spec *g = c->cfg;
-    int j;
+    int i, j;
     row[0] = t;
+    for (i = 0; i < g->n_instances && c->any_evaluated; i++)
+        if (c->recorded[i] && bring_up(c, i, t)) return -1;
     for (j = 0; j < g->n_columns; j++) {
         const eng_variable *v = &g->columns[j];
         if (eng_get_value(c->fmus[v->instance], v, &row[1 + j]))
             return fmu_fail(c, v->instance, "get of a recorded output", t);
     }
     return 0;
+}
+
+/* The members the master may evaluate (eng_cosim_spec.time_function / .linear_map),
+   which their FMUs' structure allows: no indicators, and for a linear map no states,
+   every coupled end a Float64 scalar, no algebraic loop, and under Gauss–Seidel no input
+   it extrapolates itself. Their couplings in (ev_in) and the rows of ev_J, bounded. */
+static int plan_evaluated(cosim *c)
+{
+    const eng_cosim_spec *g = c->cfg;
+    const int n = g->n_instances, nc = g->n_couplings;
+    int i, k, *cursor;
+    size_t total = 0;
+    for (i = 0; i < n; i++) {
+        const eng_instance_spec *in = &g->instances[i];
+        c->evaluated[i] = in->n_event_indicators != 0 ? EVAL_NONE
+                          : g->time_function && g->time_function[i]
+                                && (in->n_states == 0 || (in->state_vr && in->derivative_vr))
+                              ? EVAL_TIME
+                          : g->linear_map && g->linear_map[i] && in->n_states == 0 ? EVAL_LINEAR
+                                                                                   : EVAL_NONE;
+    }
+    for (k = 0; k < nc; k++) {
+        const eng_coupling *cp = &g->couplings[k];
+        if (!ENG_PLAIN(&cp->source)) c->evaluated[cp->source.instance] = EVAL_NONE;
+        if (!ENG_PLAIN(&cp->target) && c->evaluated[cp->target.instance] == EVAL_LINEAR)
+            c->evaluated[cp->target.instance] = EVAL_NONE;
+        if (c->in_loop[k]) c->evaluated[cp->source.instance] = c->evaluated[cp->target.instance] = 0;
+        if (g->scheme == ENG_GAUSS_SEIDEL && g->derivative[k] >= 0
+            && c->evaluated[cp->target.instance] == EVAL_LINEAR)
+            c->evaluated[cp->target.instance] = EVAL_NONE;
+    }
+    for (k = 0; k < nc; k++) c->ev_in_start[g->couplings[k].target.instance + 1]++;
+    for (i = 0; i < n; i++) c->ev_in_start[i + 1] += c->ev_in_start[i];
+    cursor = (int *)calloc((size_t)n + 1, sizeof(int));
+    if (!cursor) return fail(c, "out of memory");
+    for (k = 0; k < nc; k++) {
+        i = g->couplings[k].target.instance;
+        c->ev_in[c->ev_in_start[i] + cursor[i]++] = k;
+    }
+    free(cursor);
+    for (k = 0; k < nc; k++) { /* a row per coupling out of a linear one, as wide as its inputs */
+        size_t width;
+        i = g->couplings[k].source.instance;
+        if (c->evaluated[i] != EVAL_LINEAR) continue;
+        width = (size_t)(c->ev_in_start[i + 1] - c->ev_in_start[i]);
+        if (total + width > (size_t)1 << 24) { /* bounded: such a member is stepped */
+            c->evaluated[i] = EVAL_NONE;
+            continue;
+        }
+        c->ev_row[k] = (int)total;
+        total += width;
+    }
+    c->ev_J = (double *)calloc(total + 1, sizeof(double));
+    if (!c->ev_J) return fail(c, "out of memory");
+    for (k = 0; k < g->n_columns; k++) c->recorded[g->columns[k].instance] = 1;
+    return 0;
+}
+
+/* The constants of each evaluated member at the start t0 (inputs consistent there): its
+   coupled outputs, their rates along its derivatives (a time function) or their
+   derivatives along its coupled inputs (a linear map), its states and derivatives. A
+   member whose reads fail is stepped as any other: this saves calls, it decides nothing. */
+static void anchor(cosim *c, double t0)
+{
+    const eng_cosim_spec *g = c->cfg;
+    const double one = 1.0;
+    int i, j, k, a;
+    c->ev_t0 = c->t_now = t0;
+    for (i = 0; i < g->n_instances; i++) {
+        const eng_instance_spec *in = &g->instances[i];
+        const int nx = in->n_states, first = c->ev_in_start[i];
+        double *dx = NULL;
+        fmu_t *f = c->fmus[i];
+        int ok = 1, x = 0;
+        c->fmu_time[i] = t0;
+        if (!c->evaluated[i]) continue;
+        for (j = 0; j < g->n_states; j++) /* its states, contiguous in `states` */
+            if (g->states[j].instance == i) { x = j; break; }
+        if (c->evaluated[i] == EVAL_TIME && nx) {
+            dx = c->ev_dx + x;
+            ok = x + nx <= g->n_states && fmu_get_float64(f, in->derivative_vr, (size_t)nx, dx) == 0
+                 && fmu_get_float64(f, in->state_vr, (size_t)nx, c->ev_x0 + x) == 0;
+            for (j = 0; j < nx && ok; j++)
+                ok = g->states[x + j].instance == i && g->states[x + j].vr == in->state_vr[j]
+                     && isfinite(dx[j]);
+        }
+        for (k = 0; k < g->n_couplings && ok; k++) {
+            const eng_variable *v = &g->couplings[k].source;
+            if (v->instance != i) continue;
+            ok = fmu_get_float64(f, &v->vr, 1, &c->ev_y0[k]) == 0;
+            c->ev_rate[k] = 0.0;
+            if (ok && c->evaluated[i] == EVAL_TIME && nx)
+                ok = fmu_directional_derivative(f, &v->vr, 1, in->state_vr, (size_t)nx, dx,
+                                                &c->ev_rate[k]) == 0 && isfinite(c->ev_rate[k]);
+            for (a = first; a < c->ev_in_start[i + 1] && ok && c->evaluated[i] == EVAL_LINEAR; a++) {
+                double *entry = c->ev_J + c->ev_row[k] + a - first;
+                ok = fmu_directional_derivative(f, &v->vr, 1, &g->couplings[c->ev_in[a]].target.vr,
+                                                1, &one, entry) == 0 && isfinite(*entry);
+            }
+        }
+        for (a = first; a < c->ev_in_start[i + 1]; a++) c->ev_u0[c->ev_in[a]] = c->u[c->ev_in[a]];
+        if (!ok) c->evaluated[i] = EVAL_NONE;
+        c->any_evaluated = c->any_evaluated || c->evaluated[i];
+    }
 }
 
 /* Everything allocated, every FMU loaded with its start values; -1: message set. */
@@ -872,6 +1086,23 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->settle_u = (double *)calloc((size_t)n_c, sizeof(double));
     c->chain_order = (int *)calloc((size_t)n_c, sizeof(int));
     c->row = (double *)calloc((size_t)width_max, sizeof(double));
+    c->evaluated = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->recorded = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->stale = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->fmu_time = (double *)calloc((size_t)g->n_instances + 1, sizeof(double));
+    c->version = (long *)calloc((size_t)g->n_instances + 1, sizeof(long));
+    c->ev_in_start = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
+    c->ev_in = (int *)calloc((size_t)n_c, sizeof(int));
+    c->ev_row = (int *)calloc((size_t)n_c, sizeof(int));
+    c->ev_y0 = (double *)calloc((size_t)n_c, sizeof(double));
+    c->ev_rate = (double *)calloc((size_t)n_c, sizeof(double));
+    c->ev_u0 = (double *)calloc((size_t)n_c, sizeof(double));
+    c->ev_x0 = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
+    c->ev_dx = (double *)calloc((size_t)g->n_states + 1, sizeof(double));
+    if (!c->evaluated || !c->recorded || !c->stale || !c->fmu_time || !c->version
+        || !c->ev_in_start || !c->ev_in || !c->ev_row || !c->ev_y0 || !c->ev_rate || !c->ev_u0
+        || !c->ev_x0 || !c->ev_dx)
+        return fail(c, "out of memory");
     for (k = 0; k < g->n_groups; k++)
         if (g->group_is_loop[k] && g->group_start[k + 1] - g->group_start[k] > largest_loop)
             largest_loop = g->group_start[k + 1] - g->group_start[k];
@@ -894,6 +1125,7 @@ static int create(cosim *c, const eng_cosim_spec *g)
         if (g->group_is_loop[grp])
             for (k = g->group_start[grp]; k < g->group_start[grp + 1]; k++)
                 c->in_loop[g->group_members[k]] = 1;
+    if (plan_evaluated(c)) return -1;
     for (i = 0; i < g->n_instances; i++) {
         instance *in = &c->inst[i];
         char err[512];
@@ -929,7 +1161,9 @@ static int exit_initialization(cosim *c, double t0)
     for (i = 0; i < g->n_instances; i++)
         if (fmu_exit_initialization(c->fmus[i]) != FMU_OK)
             return fmu_fail(c, i, "exit initialization", t0);
-    return consistent(c, t0);
+    if (consistent(c, t0)) return -1;
+    anchor(c, t0);
+    return 0;
 }
 
 /* The share of the FMUs' tolerance a step of h may leave as noise (adaptive.py
@@ -1361,6 +1595,20 @@ static void destroy(cosim *c)
     free(c->chain_order);
     eng_loop_free(&c->loop);
     free(c->row);
+    free(c->evaluated);
+    free(c->recorded);
+    free(c->stale);
+    free(c->fmu_time);
+    free(c->version);
+    free(c->ev_in_start);
+    free(c->ev_in);
+    free(c->ev_row);
+    free(c->ev_y0);
+    free(c->ev_rate);
+    free(c->ev_u0);
+    free(c->ev_J);
+    free(c->ev_x0);
+    free(c->ev_dx);
 }
 
 ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
@@ -1368,6 +1616,7 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
 {
     cosim c;
     eng_progress progress;
+    int i;
     memset(&c, 0, sizeof c);
     memset(stats, 0, sizeof *stats);
     memset(cosim_stats, 0, sizeof *cosim_stats);
@@ -1397,6 +1646,9 @@ ENG_API eng_run *eng_cosimulate(const eng_cosim_spec *spec, eng_stats *stats,
     if (cosim_stats->h_max == 0.0) cosim_stats->h_min = NAN, cosim_stats->h_max = NAN;
     if (spec->asleep_since && c.asleep_since)
         memcpy(spec->asleep_since, c.asleep_since, (size_t)spec->n_instances * sizeof(double));
+    if (spec->evaluated && c.evaluated)
+        for (i = 0; i < spec->n_instances; i++)
+            spec->evaluated[i] = c.any_evaluated ? c.evaluated[i] : EVAL_NONE;
     destroy(&c);
     return c.run;
 }

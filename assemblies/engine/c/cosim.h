@@ -92,6 +92,24 @@ typedef struct {
     const int *rest_group;
     double *asleep_since;           /* out, n_instances (or NULL): when each fell asleep;
                                        INFINITY: never */
+    /* Members the master evaluates itself, as the engine's me does (engine.h,
+       eng_me_spec.time_function / .linear_map), per instance (NULL: none). time_function:
+       no event indicators, constant state derivatives, outputs affine in the states and
+       free of time and inputs (ConstantSpeed): each coupled output is its value at the
+       start plus its rate (the directional derivative along the derivatives) times the
+       time since, and it is not stepped. linear_map: no states, indicators or time,
+       outputs affine in its inputs with constant coefficients (a spring): each coupled
+       output is its value at the start plus its directional derivatives there times the
+       change of the coupled inputs since, and its inputs are kept by the master. Either
+       FMU is brought up to date (inputs set, one doStep over the time it lagged) where a
+       row records it, and rolled back with the rest; one whose reads fail at the start,
+       one in an algebraic loop, and under Gauss–Seidel a linear one with an input it
+       extrapolates itself (its FMU reads the chain's end after its doStep) is stepped as
+       any other. Only the coupled Float64 scalars are evaluated. */
+    const int *time_function;
+    const int *linear_map;
+    int *evaluated;                 /* out, n_instances (or NULL): 1 where the run took the
+                                       member as a time function, 2 as a linear map, else 0 */
 } eng_cosim_spec;
 
 typedef struct {
