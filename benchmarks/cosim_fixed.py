@@ -21,9 +21,12 @@ spread (max - min) / median; each ratio with its range over the repeats (the ext
 one run's times over the other's). "doSteps per step" counts: doSteps over communication
 steps tried (accepted and rejected) and instances, 1 for a fixed step, 3 for step
 doubling, less where unjudged steps follow an accepted estimate (COAST_STEPS, growing
-to COAST_MAX while the error is steady, in assemblies/masters/adaptive.py). "fixed/comp": the cheapest fixed step at the cosim
-run's error over the composite at that error, what co-simulation with no estimate at
-all would cost: the bound of any step control on the same coupling. "interp.": the
+to COAST_MAX while the error is steady, in assemblies/masters/adaptive.py) and where
+the master evaluates a member itself with no doStep (a source from time, a spring as a
+linear map). "fixed/comp": the cheapest fixed step at the cosim run's error over the
+composite at that error, what co-simulation with no estimate at all would cost with
+uniform steps; not a bound on adaptive steps, which spend them where the error is made
+(benchmarks/cosim_bound.py measures the bound that holds). "interp.": the
 cosim run over a fixed step of exactly its error (:func:`fixed_cost_at`).
 """
 from __future__ import annotations
