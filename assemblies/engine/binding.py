@@ -70,7 +70,7 @@ class Stats(C.Structure):  # eng_stats
                 ("jacobian_note", C.c_char * 512),
                 ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
                 ("jacobian_band", C.c_long), ("loop_iterations", C.c_long),
-                ("loop_matrices", C.c_long)]
+                ("loop_matrices", C.c_long), ("event_instances", C.c_long)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec

@@ -289,6 +289,7 @@ class _Plan:
             "jacobian_band": stats.jacobian_band,
             "algebraic_loops": [name for _, _, name in self.loops],
             "loop_iterations": stats.loop_iterations, "loop_matrices": stats.loop_matrices,
+            "event_instances": stats.event_instances,
             "jacobian": "directional derivatives" if stats.exact_jacobian
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,

@@ -164,6 +164,9 @@ typedef struct {
     /* Model Exchange, algebraic loops (eng_me_spec.n_loops): Newton steps and matrices
        evaluated over the run, all loops together */
     long loop_iterations, loop_matrices;
+    /* Model Exchange: instances that took part in an event (event mode, discrete updates),
+       summed over the events: n_instances per event where every instance does */
+    long event_instances;
 } eng_stats;
 
 typedef struct {
