@@ -45,29 +45,33 @@ def test_positions_are_the_composite_fmus(runs):
 # --- what an instance outside the event sees -------------------------------------------
 
 def test_an_instance_outside_the_event_sees_no_event_call():
-    """Two uncoupled foreign oscillators (me27_count counts the event-mode calls it gets
-    and those FMI 2's state machine forbids where they come): `tick` crosses an
-    indicator every 0.3 s from 0.15 s, `idle` never. `tick` goes through each of its ten
-    events; `idle` leaves initialization's event mode once and sees no event call after
-    (a whole-assembly iteration took it through all ten), and no call is out of place.
-    The event path leaves `tick`'s solution cos 2t as it is."""
+    """Three uncoupled foreign oscillators (me27_count counts the event-mode calls it
+    gets and those FMI 2's state machine forbids where they come): `tick` crosses an
+    indicator every 0.3 s from 0.15 s (10 state events), `clock` asks for a time event
+    at every multiple of 0.2 s (14 before the stop), `idle` has none. Each goes through
+    its own events only: `idle` leaves initialization's event mode once and sees no event
+    call after (a whole-assembly iteration took every instance through all 24), and no
+    call is out of place. The solution cos 2t stays as it is."""
     from fmpy.validation import validate_fmu
 
     from assemblies import FMU, Assembly
     from handmade_fmus import handmade_fmu
     fmu = handmade_fmu("me27_count")
     assert validate_fmu(str(fmu)) == []
-    asm = Assembly("me27_count_pair")
+    asm = Assembly("me27_count_three")
     asm.add("tick", FMU(fmu, period=0.3))
+    asm.add("clock", FMU(fmu, tick=0.2))
     asm.add("idle", FMU(fmu))
-    rec = [f"{i}.{v}" for i in ("tick", "idle") for v in ("pos", "entered", "updated",
-                                                           "misplaced")]
+    names = ("tick", "clock", "idle")
+    rec = [f"{i}.{v}" for i in names for v in ("pos", "entered", "updated", "misplaced")]
     res = simulate_me(asm, 3.0, 0.1, tolerance=1e-8, record=rec)
     last = {c: np.asarray(res[c])[-1] for c in rec}
-    assert res.settings["events"] == 10
-    assert last["tick.entered"] == 10 and last["tick.updated"] >= 11  # and the start's
+    assert res.settings["events"] == 24
+    assert last["tick.entered"] == 10 and last["clock.entered"] == 14
     assert last["idle.entered"] == 0 and last["idle.updated"] == 1  # the start's only
-    assert last["tick.misplaced"] == 0 and last["idle.misplaced"] == 0
+    assert res.settings["event_instances"] == len(names) + 24
     t = np.asarray(res["time"])
-    np.testing.assert_allclose(res["tick.pos"], np.cos(2.0 * t), rtol=0, atol=1e-6)
-    np.testing.assert_allclose(res["idle.pos"], np.cos(2.0 * t), rtol=0, atol=1e-6)
+    for name in names:
+        assert last[f"{name}.updated"] >= last[f"{name}.entered"] + 1  # and the start's
+        assert last[f"{name}.misplaced"] == 0
+        np.testing.assert_allclose(res[f"{name}.pos"], np.cos(2.0 * t), rtol=0, atol=1e-6)

@@ -4,7 +4,8 @@
    its state machine forbids where they come (event mode entered from anywhere but
    continuous-time mode, discrete updates or continuous-time mode outside event mode).
    One event indicator: with period > 0, cos(pi t / period), an event that changes
-   nothing every period from period / 2; else 2 + sin t, which never crosses zero. */
+   nothing every period from period / 2; else 2 + sin t, which never crosses zero. With
+   tick > 0, a time event (that changes nothing) at every multiple of tick. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,7 +17,7 @@
 #include "../fmi2_defaults.h"
 
 enum { VR_X, VR_V, VR_DX, VR_DV, VR_W, VR_PERIOD, VR_POS, VR_ENTERED, VR_UPDATED,
-       VR_MISPLACED, N_VR };
+       VR_MISPLACED, VR_TICK, N_VR };
 enum { MODE_SETUP, MODE_EVENT, MODE_CONTINUOUS };
 
 typedef struct {
@@ -64,7 +65,8 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
 fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n, const fmi2Real v[]) {
     Instance *s = c;
     for (size_t i = 0; i < n; i++) {
-        if (vr[i] != VR_X && vr[i] != VR_V && vr[i] != VR_W && vr[i] != VR_PERIOD)
+        if (vr[i] != VR_X && vr[i] != VR_V && vr[i] != VR_W && vr[i] != VR_PERIOD &&
+            vr[i] != VR_TICK)
             return fmi2Error;
         s->v[vr[i]] = v[i];
     }
@@ -82,6 +84,11 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     s->v[VR_UPDATED] += 1.0;
     if (s->mode != MODE_EVENT) s->v[VR_MISPLACED] += 1.0;
     memset(info, 0, sizeof *info);
+    if (s->v[VR_TICK] > 0.0) { /* the next multiple after the time it stands at */
+        const double tick = s->v[VR_TICK];
+        info->nextEventTimeDefined = fmi2True;
+        info->nextEventTime = (floor(s->time / tick + 1e-9) + 1.0) * tick;
+    }
     return fmi2OK;
 }
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
