@@ -89,7 +89,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("n_loops", C.c_int), ("loop_first", _P(C.c_int)), ("loop_count", _P(C.c_int)),
                 ("loop_name", _P(C.c_char_p)),
                 ("time_function", _P(C.c_int)), ("time_free", _P(C.c_int)),
-                ("linear_map", _P(C.c_int)), ("taken_until", _P(C.c_double))]
+                ("linear_map", _P(C.c_int)), ("taken_until", _P(C.c_double)),
+                ("event_free", _P(C.c_int))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

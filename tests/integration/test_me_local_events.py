@@ -75,3 +75,15 @@ def test_an_instance_outside_the_event_sees_no_event_call():
         assert last[f"{name}.updated"] >= last[f"{name}.entered"] + 1  # and the start's
         assert last[f"{name}.misplaced"] == 0
         np.testing.assert_allclose(res[f"{name}.pos"], np.cos(2.0 * t), rtol=0, atol=1e-6)
+
+
+def test_members_with_modes_or_indicators_are_not_event_free():
+    """eng_me_spec.event_free from the flat model: a member with modes (the Coulomb
+    friction block) always goes through the events its inputs change; the spring-damper
+    and the belt's constant speed have nothing to update."""
+    from assemblies.engine.me import is_event_free
+    from components.sources.translational import ConstantSpeed
+    from components.translational.elements import MassWithFriction, SpringDamper
+    assert is_event_free(SpringDamper(c=1.0, d=1.0))
+    assert is_event_free(ConstantSpeed(v=0.1))
+    assert not is_event_free(MassWithFriction(m=1.0, g=1.0, mu_k=0.3, mu_s=0.4))

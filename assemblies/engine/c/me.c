@@ -118,8 +118,8 @@ typedef struct {
        prepared[i]: moved to the event and given its inputs already, in this event
        (prepared_list); touched[i]: an input of it changed in the current pass; asked[i]:
        it asked for a step event at the last completed step; next_def/next_t: its own
-       next time event; passive[i]: one of ours with nothing to update when only its
-       inputs change (no indicators; a time function, a linear map or time-free) */
+       next time event; passive[i]: nothing to update when only its continuous inputs
+       change (eng_me_spec.event_free) */
     int *part, *part_list, n_part, *prepared, *prepared_list, n_prepared, *touched;
     int *asked, *next_def, *passive;
     double *next_t;
@@ -2059,10 +2059,7 @@ static int allocate_local_events(me_master *M)
     M->events_local = s->n_loops == 0;
     for (i = 0; i < M->n; i++) {
         const eng_instance_spec *in = &s->instances[i];
-        M->passive[i] = in->n_event_indicators == 0 && !in->foreign &&
-                        ((s->time_function && s->time_function[i]) ||
-                         (s->linear_map && s->linear_map[i]) ||
-                         (s->time_free && s->time_free[i]));
+        M->passive[i] = s->event_free && s->event_free[i] && in->n_event_indicators == 0;
     }
     return 0;
 }
