@@ -1212,6 +1212,12 @@ static int read_timed(me_master *M, double t, int only_part)
     return M->any_timed && plan_between(M) ? fail(M, "out of memory") : 0;
 }
 
+static int unsettled(me_master *M, double t)
+{
+    return fail(M, "the event iteration at t = %.10g does not settle between the connected "
+                   "FMUs", t);
+}
+
 /* Instance i's discrete updates at t until it needs no more; its own next time event
    is the earliest any of them asks for in this event (next_def[i] is reset when it
    joins the event). */
@@ -1372,8 +1378,7 @@ static int event_local(me_master *M, double t, const double *z_at)
     }
     M->sent_valid = 1;
     if (it == MAX_EVENT_ITERATIONS)
-        return fail(M, "the event iteration at t = %.10g does not settle between the connected "
-                       "FMUs", t);
+        return unsettled(M, t);
     /* a timed instance that took no part keeps its constants: its derivatives are
        constants of its parameters and modes, and value + rate (t - t_read) stays exact */
     rc = leave_event(M, t) || read_timed(M, t, 1) ? -1 : 0;
@@ -1421,8 +1426,7 @@ static int event_iteration(me_master *M, double t, int initial, const double *z_
     if (nc) memcpy(M->sent, M->values_new, (size_t)nc * sizeof(double));
     M->sent_valid = 1;
     if (it == MAX_EVENT_ITERATIONS)
-        return fail(M, "the event iteration at t = %.10g does not settle between the connected "
-                       "FMUs", t);
+        return unsettled(M, t);
     if (leave_event(M, t)) return -1;
     read_linear(M, t);
     return read_timed(M, t, 0);
