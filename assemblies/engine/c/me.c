@@ -123,7 +123,7 @@ typedef struct {
     int *part, *part_list, n_part, *prepared, *prepared_list, n_prepared, *touched;
     int *asked, *next_def, *passive;
     double *next_t;
-    int events_local;     /* the spec allows it: no loops, no foreign instance */
+    int events_local;     /* the spec allows it: no algebraic loops */
     int event_was_local;  /* the last event_iteration took part of the assembly only */
     int z_now_valid;      /* z_now holds the indicators at (M->t, M->x) */
     mf_dopri dopri;
@@ -1336,7 +1336,7 @@ static int local_pass(me_master *M, double t, int *changed)
             return failed(M, src, "reading a coupled output", t);
         v *= c[j].gain;
         held = M->linear[k] ? M->lin_u[j] : M->sent[j];
-        if (v == held) continue;
+        if (memcmp(&v, &held, sizeof v) == 0) continue; /* as the whole iteration compares */
         if (!M->passive[k] || !ENG_CONTINUOUS_TYPE(c[j].target.type)) {
             if (take_part(M, k, t)) return -1;
         } else if (prepare(M, k, t)) return -1;
