@@ -70,7 +70,7 @@ class Stats(C.Structure):  # eng_stats
                 ("jacobian_note", C.c_char * 512),
                 ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
                 ("jacobian_band", C.c_long), ("loop_iterations", C.c_long),
-                ("loop_matrices", C.c_long)]
+                ("loop_matrices", C.c_long), ("event_instances", C.c_long)]
 
 
 class MeSpec(C.Structure):  # eng_me_spec
@@ -89,7 +89,8 @@ class MeSpec(C.Structure):  # eng_me_spec
                 ("n_loops", C.c_int), ("loop_first", _P(C.c_int)), ("loop_count", _P(C.c_int)),
                 ("loop_name", _P(C.c_char_p)),
                 ("time_function", _P(C.c_int)), ("time_free", _P(C.c_int)),
-                ("linear_map", _P(C.c_int)), ("taken_until", _P(C.c_double))]
+                ("linear_map", _P(C.c_int)), ("taken_until", _P(C.c_double)),
+                ("event_free", _P(C.c_int))]
 
 
 DONE, STOPPED, TERMINATED, FAILED = 0, 1, 2, -1

@@ -129,6 +129,7 @@ class _Plan:
         self.from_time = []  # their names
         self.time_free = None  # eng_me_spec.time_free (set_time_functions)
         self.linear_map = None  # eng_me_spec.linear_map (set_time_functions)
+        self.event_free = None  # eng_me_spec.event_free (set_event_free)
         self.linear = []  # their names
         self.deferred = [f"{'.'.join(c.source)} -> {'.'.join(c.target)}" for c, needed
                          in zip(couplings, continuous or []) if not needed]
@@ -217,6 +218,10 @@ class _Plan:
             self.linear_map = self.keep.array(C.c_int, linear)
             self.linear = [n for n, f in zip(self.names, linear) if f]
 
+    def set_event_free(self, flags: list[int]) -> None:
+        if any(flags):
+            self.event_free = self.keep.array(C.c_int, flags)
+
     def set_indicator_couplings(self, names: list[str], by_instance: dict) -> None:
         """eng_me_spec.indicator_start/_coupling from liveness.indicator_couplings."""
         starts, flat = [0], []
@@ -242,7 +247,8 @@ class _Plan:
                 continuous=self.continuous, column_state=self.column_state,
                 row_coupling=self.rows, indicator_start=self.indicator_start,
                 indicator_coupling=self.indicator_coupling, time_function=self.time_function,
-                time_free=self.time_free, linear_map=self.linear_map)
+                time_free=self.time_free, linear_map=self.linear_map,
+                event_free=self.event_free)
             if self.loops:
                 spec.n_loops, spec.loop_first, spec.loop_count, spec.loop_name = (
                     len(self.loops), self.loop_first, self.loop_count, self.loop_name)
@@ -289,6 +295,7 @@ class _Plan:
             "jacobian_band": stats.jacobian_band,
             "algebraic_loops": [name for _, _, name in self.loops],
             "loop_iterations": stats.loop_iterations, "loop_matrices": stats.loop_matrices,
+            "event_instances": stats.event_instances,
             "jacobian": "directional derivatives" if stats.exact_jacobian
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,
@@ -356,6 +363,16 @@ def is_time_function(component) -> bool:
                     and not ca.depends_on(m.y, ca.vertcat(m.t, m.u))
                     and not ca.depends_on(ca.jacobian(m.y, m.x), moving))
     return bool(_model_fact(component, "time_function", affine))
+
+
+def is_event_free(component) -> bool:
+    """Has an event nothing to update in the component when only its inputs change? No
+    event indicators and no modes (discrete states): a spring, a mass, a kinematic
+    source. Such a member whose continuous inputs an event changes is given them in
+    continuous-time mode and not taken through event mode (eng_me_spec.event_free). A
+    fact of its class, profile and options, as time_paths."""
+    return bool(_model_fact(component, "event_free",
+                            lambda m: m.z.numel() == 0 and m.q.numel() == 0))
 
 
 def linear_outputs(component) -> list[str]:
@@ -580,6 +597,9 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         plan.set_time_functions(evaluated_members(assembly, fmus, recorded, ordered, False),
                                 [int(f.autonomous and f.n_states == 0) for f in fmus.values()],
                                 [int(flag) for flag in linear])
+        plan.set_event_free([int(isinstance(comp, Component) and fmus[name].n_event_indicators == 0
+                                 and is_event_free(comp))
+                             for name, comp in assembly.components.items()])
         return plan
 
     # the names set before initialisation shape the plan's start lists: an instance given

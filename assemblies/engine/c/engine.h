@@ -164,6 +164,9 @@ typedef struct {
     /* Model Exchange, algebraic loops (eng_me_spec.n_loops): Newton steps and matrices
        evaluated over the run, all loops together */
     long loop_iterations, loop_matrices;
+    /* Model Exchange: instances that took part in an event (event mode, discrete updates),
+       summed over the events: n_instances per event where every instance does */
+    long event_instances;
 } eng_stats;
 
 typedef struct {
@@ -250,6 +253,13 @@ typedef struct {
        failed and it was evaluated from there on; NAN for one never taken (not asked, or
        refused: states or indicators, a coupling not a Float64 scalar, a loop's member). */
     double *taken_until;
+    /* Per instance, 1 where an event has nothing to update in it when only its inputs
+       change: no event indicators, no modes or other discrete states (a spring, a mass,
+       a kinematic source). At an event it takes part only where its own time event is
+       due, it asks for one, or a coupled input of a discrete type changes; a continuous
+       input it takes in continuous-time mode, as FMI allows. NULL: every instance whose
+       coupled inputs the event changes takes part. */
+    const int *event_free;
 } eng_me_spec;
 
 typedef struct eng_run eng_run;

@@ -4,9 +4,11 @@
  * couplings are evaluated in the given order at every right-hand-side call, so
  * inputs are exact at every stage and the error is the solver's alone. Every
  * instance's event indicators are scanned inside each accepted step
- * (mf_locate_event, with interior samples for double crossings); at an event all
- * instances go through event mode together until neither they nor the inputs
- * they see change. Outputs come from the dense output: no step ends at an
+ * (mf_locate_event, with interior samples for double crossings); at an event the
+ * instances it touches (those whose indicators crossed, whose time event is due or
+ * that asked for one, and those whose coupled inputs the updates change) go through
+ * event mode together until neither they nor the inputs they see change; the others
+ * see no call (event_local). Outputs come from the dense output: no step ends at an
  * output time.
  */
 #include <float.h>
@@ -111,6 +113,19 @@ typedef struct {
     int exact_wanted;            /* directional derivatives it is: exact is planned at the
                                     first Jacobian the run needs (plan_exact) */
     int *group_changed;          /* event groups with an indicator that crossed at this event */
+    /* An event that costs what it touches (event_local): per instance, whether it takes
+       part (event mode, discrete updates, states re-read), part_list its n_part members;
+       prepared[i]: moved to the event and given its inputs already, in this event
+       (prepared_list); touched[i]: an input of it changed in the current pass; asked[i]:
+       it asked for a step event at the last completed step; next_def/next_t: its own
+       next time event; passive[i]: nothing to update when only its continuous inputs
+       change (eng_me_spec.event_free) */
+    int *part, *part_list, n_part, *prepared, *prepared_list, n_prepared, *touched;
+    int *asked, *next_def, *passive;
+    double *next_t;
+    int events_local;     /* the spec allows it: no algebraic loops */
+    int event_was_local;  /* the last event_iteration took part of the assembly only */
+    int z_now_valid;      /* z_now holds the indicators at (M->t, M->x) */
     mf_dopri dopri;
     mf_ros ros;
     mf_stiffness stiff;   /* which of the two takes the next step */
@@ -1167,7 +1182,7 @@ static void read_linear(me_master *M, double t)
    output along the derivatives: exact, as the output is affine in the states and free
    of time). An instance whose reads fail, or with a coupled value of another kind, is
    evaluated as any other from here on: this saves calls, it decides nothing. */
-static int read_timed(me_master *M, double t)
+static int read_timed(me_master *M, double t, int only_part)
 {
     const eng_me_spec *s = M->spec;
     int i, j, b;
@@ -1176,7 +1191,7 @@ static int read_timed(me_master *M, double t)
         fmu_t *f = M->fmus[i];
         const int was_read = !isnan(M->timed_t[i]);
         int ok;
-        if (!M->timed[i]) continue;
+        if (!M->timed[i] || (only_part && !M->part[i])) continue;
         M->timed_t[i] = t;
         ok = !nx || fmu_get_derivatives(f, M->timed_dx + lo, (size_t)nx) == 0;
         for (b = M->out_start[i]; b < M->out_start[i + 1] && ok; b++) {
@@ -1197,46 +1212,212 @@ static int read_timed(me_master *M, double t)
     return M->any_timed && plan_between(M) ? fail(M, "out of memory") : 0;
 }
 
+static int unsettled(me_master *M, double t)
+{
+    return fail(M, "the event iteration at t = %.10g does not settle between the connected "
+                   "FMUs", t);
+}
+
+/* Instance i's discrete updates at t until it needs no more; its own next time event
+   is the earliest any of them asks for in this event (next_def[i] is reset when it
+   joins the event). */
+static int update_one(me_master *M, int i, double t)
+{
+    fmu_event_info info;
+    int k;
+    for (k = 0; k < MAX_EVENT_ITERATIONS; k++) {
+        if (fmu_update_discrete_states(M->fmus[i], &info))
+            return failed(M, i, "updating the discrete states", t);
+        if (info.terminate && !M->terminate) {
+            M->terminate = 1;
+            M->stats->terminated_by = i;
+            snprintf(M->stats->message, sizeof M->stats->message, "%s", fmu_message(M->fmus[i]));
+        }
+        if (info.next_time_defined && (!M->next_def[i] || info.next_time < M->next_t[i])) {
+            M->next_def[i] = 1;
+            M->next_t[i] = info.next_time;
+        }
+        if (!info.needs_more) return 0;
+    }
+    return fail(M, "%s: discrete states do not settle at t = %.10g",
+                fmu_instance_name(M->fmus[i]), t);
+}
+
+/* The earliest time event any instance asked for. */
+static void next_time(me_master *M)
+{
+    int i;
+    M->next_defined = 0;
+    for (i = 0; i < M->n; i++)
+        if (M->next_def[i] && (!M->next_defined || M->next_t[i] < M->t_next)) {
+            M->next_defined = 1;
+            M->t_next = M->next_t[i];
+        }
+}
+
+/* Back to continuous time with the states re-read into M->x, each instance that took
+   part; the event groups flagged in group_changed record their outputs. */
+static int leave_event(me_master *M, double t)
+{
+    int a, i;
+    for (i = 0; i < M->spec->n_event_groups; i++)
+        if (M->group_changed[i] && record_event(M, i, t)) return -1;
+    for (a = 0; a < M->n_part; a++) {
+        i = M->part_list[a];
+        if (fmu_enter_continuous_time_mode(M->fmus[i]))
+            return failed(M, i, "entering continuous time mode", t);
+        if (fmu_get_continuous_states(M->fmus[i], M->x + M->x_off[i],
+                                      (size_t)(M->x_off[i + 1] - M->x_off[i])))
+            return failed(M, i, "getting the continuous states", t);
+    }
+    M->stats->event_instances += M->n_part;
+    next_time(M);
+    return 0;
+}
+
+/* Instance k ready to be read or given inputs in a local event: moved to (t, x) where
+   it is moved at events only, and a linear map's FMU given the inputs the couplings
+   brought it to since the last event (both skipped for the instances no event touches:
+   move_unmoved and settle_linear cost a call per instance). */
+static int prepare(me_master *M, int k, double t)
+{
+    const eng_coupling *c = M->spec->couplings;
+    int a;
+    if (M->prepared[k]) return 0;
+    M->prepared[k] = 1;
+    M->prepared_list[M->n_prepared++] = k;
+    if (M->unmoved[k] && !M->asleep[k] && move_one(M, k, t, M->x + M->x_off[k])) return -1;
+    if (M->linear[k]) {
+        const int first = M->lin_in_start[k], n_in = M->lin_in_start[k + 1] - first;
+        for (a = 0; a < n_in; a++) {
+            const int j = M->lin_in[first + a];
+            M->pending_vr[a] = c[j].target.vr;
+            M->pending_value[a] = M->sent[j] = M->lin_u[j];
+        }
+        if (n_in && fmu_set_float64(M->fmus[k], M->pending_vr, (size_t)n_in, M->pending_value))
+            return failed(M, k, "setting coupled inputs", t);
+    }
+    return 0;
+}
+
+/* Instance k joins the event: event mode, from continuous time (FMI 2 and 3 ME). */
+static int take_part(me_master *M, int k, double t)
+{
+    if (M->part[k]) return 0;
+    if (prepare(M, k, t)) return -1;
+    if (fmu_enter_event_mode(M->fmus[k])) return failed(M, k, "entering event mode", t);
+    M->part[k] = 1;
+    M->part_list[M->n_part++] = k;
+    M->next_def[k] = 0;
+    return 0;
+}
+
+/* One pass of the couplings in order (a source's inputs are set before it is read: no
+   loops here), reading only the sources whose outputs can have changed: those that
+   take part, those whose inputs this pass changed, and the couplings the evaluation
+   between events leaves to the events (eng_me_spec.continuous). Every other coupled
+   value is what its target holds (sent[], or lin_u[] for a linear map's inputs, which
+   its FMU gets when prepared). A changed value is set; its target takes part first
+   unless it is passive and the input is a continuous one, which FMI lets an instance
+   take in continuous time. *changed: some value changed. */
+static int local_pass(me_master *M, double t, int *changed)
+{
+    const eng_me_spec *s = M->spec;
+    const eng_coupling *c = s->couplings;
+    int j, a;
+    *changed = 0;
+    for (j = 0; j < s->n_couplings; j++) {
+        const int src = c[j].source.instance, k = c[j].target.instance;
+        double v, held;
+        if (!(M->part[src] || M->touched[src] || (s->continuous && !s->continuous[j])))
+            continue;
+        if (prepare(M, src, t)) return -1;
+        if (eng_get_value(M->fmus[src], &c[j].source, &v))
+            return failed(M, src, "reading a coupled output", t);
+        v *= c[j].gain;
+        held = M->linear[k] ? M->lin_u[j] : M->sent[j];
+        if (memcmp(&v, &held, sizeof v) == 0) continue; /* as the whole iteration compares */
+        if (!M->passive[k] || !ENG_CONTINUOUS_TYPE(c[j].target.type)) {
+            if (take_part(M, k, t)) return -1;
+        } else if (prepare(M, k, t)) return -1;
+        if (eng_set_value(M->fmus[k], &c[j].target, v))
+            return failed(M, k, "setting a coupled input", t);
+        M->sent[j] = v;
+        if (M->linear[k]) M->lin_u[j] = v;
+        M->touched[k] = 1;
+        *changed = 1;
+    }
+    for (a = 0; a < M->n_prepared; a++) M->touched[M->prepared_list[a]] = 0;
+    return 0;
+}
+
+/* An event that costs what it touches: the instances whose indicators crossed or sit
+   at zero (z_at: every indicator at (t, M->x) before the event), whose time event is
+   due or that asked for a step event take part, and then, pass by pass, every instance
+   whose coupled inputs the updates change, unless it is passive (it has nothing to
+   update and takes continuous inputs in continuous time). The others see no call: their
+   states, modes and outputs stand as they were, which is what a whole-assembly
+   iteration would find for them too. */
+static int event_local(me_master *M, double t, const double *z_at)
+{
+    int i, j, a, it, rc, changed = 1;
+    M->n_part = M->n_prepared = 0;
+    for (i = 0; i < M->n; i++) {
+        int take = M->asked[i] || (M->next_def[i] && M->next_t[i] <= t);
+        for (j = M->z_off[i]; j < M->z_off[i + 1] && !take; j++)
+            take = mf_crossed(M->z_prev[j], z_at[j]) || mf_at_zero(z_at[j]);
+        if (take && take_part(M, i, t)) return -1;
+    }
+    /* what the evaluation between events leaves to the events, before any update */
+    if (local_pass(M, t, &changed)) return -1;
+    for (it = 0; it < MAX_EVENT_ITERATIONS; it++) {
+        for (a = 0; a < M->n_part; a++)
+            if (update_one(M, M->part_list[a], t)) return -1;
+        if (local_pass(M, t, &changed)) return -1;
+        if (!changed) break;
+    }
+    M->sent_valid = 1;
+    if (it == MAX_EVENT_ITERATIONS)
+        return unsettled(M, t);
+    /* a timed instance that took no part keeps its constants: its derivatives are
+       constants of its parameters and modes, and value + rate (t - t_read) stays exact */
+    rc = leave_event(M, t) || read_timed(M, t, 1) ? -1 : 0;
+    for (a = 0; a < M->n_prepared; a++) M->prepared[M->prepared_list[a]] = 0;
+    for (a = 0; a < M->n_part; a++) M->part[M->part_list[a]] = 0;
+    return rc;
+}
+
 /* Every instance in event mode (already there when `initial`), discrete updates until
    the instances and the inputs they see settle, then back to continuous time with
    the states re-read into M->x. Event groups flagged in group_changed record their
-   outputs. */
-static int event_iteration(me_master *M, double t, int initial)
+   outputs. With z_at (the indicators at (t, M->x) before the event), where the spec
+   allows it, only the instances the event touches (event_local). */
+static int event_iteration(me_master *M, double t, int initial, const double *z_at)
 {
     int i, it, nc = M->spec->n_couplings;
+    M->event_was_local = 0;
     if (!initial) {
-        if (set_point(M, t, M->x) || move_unmoved(M, t, M->x) || settle_linear(M, t, 0))
-            return -1;
+        if (set_point(M, t, M->x)) return -1;
+        if (z_at && M->events_local && M->sent_valid) {
+            M->set_valid = 0; /* the updates change the instances behind the cache */
+            M->event_was_local = 1;
+            return event_local(M, t, z_at);
+        }
+        if (move_unmoved(M, t, M->x) || settle_linear(M, t, 0)) return -1;
         for (i = 0; i < M->n; i++)
             if (fmu_enter_event_mode(M->fmus[i]))
                 return failed(M, i, "entering event mode", t);
     }
     M->set_valid = 0; /* the updates change the instances behind the cache */
-    M->next_defined = 0;
+    for (i = 0; i < M->n; i++) {
+        M->next_def[i] = 0;
+        M->part_list[i] = i;
+    }
+    M->n_part = M->n;
     if (propagate(M, M->values, t)) return -1;
     for (it = 0; it < MAX_EVENT_ITERATIONS; it++) {
-        for (i = 0; i < M->n; i++) {
-            fmu_event_info info;
-            int k;
-            for (k = 0; k < MAX_EVENT_ITERATIONS; k++) {
-                if (fmu_update_discrete_states(M->fmus[i], &info))
-                    return failed(M, i, "updating the discrete states", t);
-                if (info.terminate && !M->terminate) {
-                    M->terminate = 1;
-                    M->stats->terminated_by = i;
-                    snprintf(M->stats->message, sizeof M->stats->message, "%s",
-                             fmu_message(M->fmus[i]));
-                }
-                if (info.next_time_defined && (!M->next_defined || info.next_time < M->t_next)) {
-                    M->next_defined = 1;
-                    M->t_next = info.next_time;
-                }
-                if (!info.needs_more) break;
-            }
-            if (k == MAX_EVENT_ITERATIONS)
-                return fail(M, "%s: discrete states do not settle at t = %.10g",
-                            fmu_instance_name(M->fmus[i]), t);
-        }
+        for (i = 0; i < M->n; i++)
+            if (update_one(M, i, t)) return -1;
         if (propagate(M, M->values_new, t)) return -1;
         if (nc == 0 || memcmp(M->values, M->values_new, (size_t)nc * sizeof(double)) == 0) break;
         memcpy(M->values, M->values_new, (size_t)nc * sizeof(double));
@@ -1245,30 +1426,39 @@ static int event_iteration(me_master *M, double t, int initial)
     if (nc) memcpy(M->sent, M->values_new, (size_t)nc * sizeof(double));
     M->sent_valid = 1;
     if (it == MAX_EVENT_ITERATIONS)
-        return fail(M, "the event iteration at t = %.10g does not settle between the connected "
-                       "FMUs", t);
-    for (i = 0; i < M->spec->n_event_groups; i++)
-        if (M->group_changed[i] && record_event(M, i, t)) return -1;
-    for (i = 0; i < M->n; i++) {
-        if (fmu_enter_continuous_time_mode(M->fmus[i]))
-            return failed(M, i, "entering continuous time mode", t);
-        if (fmu_get_continuous_states(M->fmus[i], M->x + M->x_off[i],
-                                      (size_t)(M->x_off[i + 1] - M->x_off[i])))
-            return failed(M, i, "getting the continuous states", t);
-    }
+        return unsettled(M, t);
+    if (leave_event(M, t)) return -1;
     read_linear(M, t);
-    return read_timed(M, t);
+    return read_timed(M, t, 0);
 }
 
 /* After an event: the indicators at the new point become the crossing reference.
    One sitting exactly on zero while its instance's states did not move has touched
    zero without going across (mode conditions are strict): it keeps its old sign so
    that it still triggers once it really goes across; after a state jump a zero is
-   a fresh start (a velocity reset to 0) and must not. */
-static int new_reference(me_master *M, double t, const double *x_before)
+   a fresh start (a velocity reset to 0) and must not. After a local event the
+   instances that took part are read at (t, M->x), time and states set once more as
+   set_point would (an exporter may compute in its set calls; the last pass left their
+   inputs consistent); the others' indicators are z_at, as neither their states nor
+   their inputs moved. */
+static int new_reference(me_master *M, double t, const double *x_before, const double *z_at)
 {
-    int i, j;
-    if (indicators_at(M, t, M->x, M->z_now)) return -1;
+    int i, j, a;
+    if (!M->event_was_local) {
+        if (indicators_at(M, t, M->x, M->z_now)) return -1;
+    } else {
+        if (z_at != M->z_now && M->n_z)
+            memcpy(M->z_now, z_at, (size_t)M->n_z * sizeof(double));
+        for (a = 0; a < M->n_part; a++) {
+            i = M->part_list[a];
+            if (M->z_off[i + 1] == M->z_off[i]) continue;
+            if (!M->asleep[i] && move_one(M, i, t, M->x + M->x_off[i])) return -1;
+            if (fmu_get_event_indicators(M->fmus[i], M->z_now + M->z_off[i],
+                                         (size_t)(M->z_off[i + 1] - M->z_off[i])))
+                return failed(M, i, "getting the event indicators", t);
+        }
+    }
+    M->z_now_valid = 1;
     for (i = 0; i < M->n; i++) {
         int moved = 0;
         for (j = M->x_off[i]; j < M->x_off[i + 1]; j++)
@@ -1298,15 +1488,16 @@ static void clear_groups(me_master *M)
 }
 
 /* An event at (t, M->x): iteration, bookkeeping, output rows at t. 0: go on. */
-static int handle_event(me_master *M, double t)
+static int handle_event(me_master *M, double t, const double *z_at)
 {
     if (M->n_x) memcpy(M->x_before, M->x, (size_t)M->n_x * sizeof(double));
-    if (event_iteration(M, t, 0)) return -1;
+    if (event_iteration(M, t, 0, z_at)) return -1;
+    memset(M->asked, 0, (size_t)M->n * sizeof(int)); /* answered */
     if (++M->stats->events > MAX_EVENTS)
         return fail(M, "more than %ld events before t = %.10g: the modes chatter (Zeno "
                        "behaviour?)", MAX_EVENTS, t);
     restart(M);
-    if (new_reference(M, t, M->x_before)) return -1;
+    if (new_reference(M, t, M->x_before, z_at)) return -1;
     /* output points at the event time show the state after the jumps */
     return emit_until(M, t, 1, 0);
 }
@@ -1322,12 +1513,13 @@ static int completed_step(me_master *M, double t, int *step_event)
         /* An FMU that needs no fmiCompletedIntegratorStep is not told, nor are the
            instances moved back to the step's end for it: event location and the output
            rows have left them elsewhere, and that move costs a right-hand side. */
+        M->asked[i] = 0;
         if (M->spec->instances[i].completed_step_not_needed) continue;
         if (!moved && set_point(M, t, M->x)) return -1;
         moved = 1;
         if (fmu_completed_integrator_step(M->fmus[i], 1, &enter, &terminate))
             return failed(M, i, "completing the integrator step", t);
-        if (enter) *step_event = 1;
+        if (enter) *step_event = M->asked[i] = 1;
         if (terminate && !M->terminate) {
             M->terminate = 1;
             M->stats->terminated_by = i;
@@ -1389,8 +1581,10 @@ static int exit_initialization(me_master *M)
     }
     /* both FMI versions: an ME FMU is in event mode now; settle it like any event */
     clear_groups(M);
-    if (event_iteration(M, t0, 1)) return -1;
+    if (event_iteration(M, t0, 1, NULL)) return -1;
     if (indicators_at(M, t0, M->x, M->z_prev)) return -1;
+    memcpy(M->z_now, M->z_prev, (size_t)M->n_z * sizeof(double));
+    M->z_now_valid = 1;
     if (M->exact_wanted && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
         int foreign = 0;
         for (i = 0; i < M->n; i++) foreign = foreign || s->instances[i].foreign;
@@ -1439,7 +1633,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
     if (M->inputs_changed) { /* an input set from outside may switch a mode: an event now */
         M->inputs_changed = 0;
         clear_groups(M);
-        if (handle_event(M, t)) return -1;
+        if (handle_event(M, t, NULL)) return -1;
     }
     /* an importer's communication points carry round-off (0.5 + 0.1 against 6 * 0.1):
        a sliver short of the target is the target, not a step of 1e-16 s */
@@ -1458,7 +1652,8 @@ static int advance(me_master *M, double target, eng_progress *progress)
             return fail(M, "the integrator: %s", why);
         if (t >= bound) { /* a time event is due now */
             clear_groups(M);
-            if (handle_event(M, t)) return -1;
+            /* z_now: the indicators at (t, x), from the step or the event that ended here */
+            if (handle_event(M, t, M->z_now_valid ? M->z_now : NULL)) return -1;
             continue;
         }
         if (M->n_x == 0) /* nothing to integrate: still look at the indicators often */
@@ -1475,6 +1670,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
         if (step(M, &t, bound, M->h_initial)) return -1;
         M->t = t;
         M->stats->steps++;
+        M->z_now_valid = 0;
         if (indicators_at(M, t, M->x, M->z_now)) return -1;
         found = locate(M, t_old, t, &t_event);
         if (found < 0) {
@@ -1489,14 +1685,15 @@ static int advance(me_master *M, double target, eng_progress *progress)
             M->t = t = t_event;
             mark_groups(M, M->z_hit);
             if (completed_step(M, t, &step_event)) return -1;
-            if (handle_event(M, t)) return -1;
+            if (handle_event(M, t, M->z_hit)) return -1;
         } else {
             if (emit_until(M, t, 1, 1)) return -1;
             memcpy(M->z_prev, M->z_now, (size_t)M->n_z * sizeof(double));
+            M->z_now_valid = 1;
             if (completed_step(M, t, &step_event)) return -1;
             if (step_event && !M->terminate) {
                 clear_groups(M);
-                if (handle_event(M, t)) return -1;
+                if (handle_event(M, t, M->z_now)) return -1;
             } else if (!M->terminate && target >= s->stop_time) {
                 int rest = fall_asleep(M, t);
                 if (rest < 0) return -1;
@@ -1843,6 +2040,34 @@ static int allocate_linear(me_master *M)
     return 0;
 }
 
+/* What event_local needs; events_local: no algebraic loop (a loop's members are solved
+   together, through every coupling: one that takes part takes its loop along, which
+   the whole iteration does). */
+static int allocate_local_events(me_master *M)
+{
+    const eng_me_spec *s = M->spec;
+    const size_t n1 = (size_t)M->n + 1;
+    int i;
+    M->part = calloc(n1, sizeof(int));
+    M->part_list = calloc(n1, sizeof(int));
+    M->prepared = calloc(n1, sizeof(int));
+    M->prepared_list = calloc(n1, sizeof(int));
+    M->touched = calloc(n1, sizeof(int));
+    M->asked = calloc(n1, sizeof(int));
+    M->next_def = calloc(n1, sizeof(int));
+    M->passive = calloc(n1, sizeof(int));
+    M->next_t = zeros(M->n);
+    if (!M->part || !M->part_list || !M->prepared || !M->prepared_list || !M->touched ||
+        !M->asked || !M->next_def || !M->passive || !M->next_t)
+        return -1;
+    M->events_local = s->n_loops == 0;
+    for (i = 0; i < M->n; i++) {
+        const eng_instance_spec *in = &s->instances[i];
+        M->passive[i] = s->event_free && s->event_free[i] && in->n_event_indicators == 0;
+    }
+    return 0;
+}
+
 static int allocate(me_master *M)
 {
     const eng_me_spec *s = M->spec;
@@ -1903,6 +2128,7 @@ static int allocate(me_master *M)
                         (s->time_free && s->time_free[i] && s->instances[i].n_states == 0);
         M->any_unmoved = M->any_unmoved || M->unmoved[i];
     }
+    if (allocate_local_events(M)) return -1;
     M->z_prev = zeros(M->n_z);
     M->z_now = zeros(M->n_z);
     M->z_hit = zeros(M->n_z);
@@ -1963,6 +2189,8 @@ static void release(me_master *M)
         for (i = 0; i < M->n; i++) plan_free(&M->local[i]);
     free(M->local); free(M->local_start); free(M->local_instance); free(M->shared_z);
     free(M->pending_vr); free(M->pending_value);
+    free(M->part); free(M->part_list); free(M->prepared); free(M->prepared_list);
+    free(M->touched); free(M->asked); free(M->next_def); free(M->passive); free(M->next_t);
 }
 
 /* The spec's own mistakes, before anything is loaded. */
@@ -2167,10 +2395,15 @@ int eng_me_number_of_states(const eng_me *m) { return m->M.n_x; }
 
 int eng_me_number_of_indicators(const eng_me *m) { return m->M.n_z; }
 
-void eng_me_set_time(eng_me *m, double t) { m->M.t = t; }
+void eng_me_set_time(eng_me *m, double t)
+{
+    m->M.t = t;
+    m->M.z_now_valid = 0;
+}
 
 void eng_me_set_states(eng_me *m, const double *x)
 {
+    m->M.z_now_valid = 0;
     if (m->M.n_x) memcpy(m->M.x, x, (size_t)m->M.n_x * sizeof(double));
 }
 
@@ -2211,7 +2444,8 @@ int eng_me_event_update(eng_me *m, int *states_changed)
     if (m->failed) return ENG_FAILED;
     if (M->n_x) memcpy(M->x_before, M->x, (size_t)M->n_x * sizeof(double));
     clear_groups(M);
-    if (event_iteration(M, M->t, 0)) return me_failed(m);
+    M->z_now_valid = 0; /* the importer moves the states: the reference is its own */
+    if (event_iteration(M, M->t, 0, NULL)) return me_failed(m);
     *states_changed = M->n_x && memcmp(M->x_before, M->x, (size_t)M->n_x * sizeof(double)) != 0;
     return 0;
 }
