@@ -177,9 +177,10 @@ class _Plan:
 
     def _buffers(self, start_time, stop_time, step):
         """The output times, the buffers the C writes (rows, when each instance fell
-        asleep, until when each was taken from time or as a linear map) and their addresses: kept for the next run of the same grid, since
-        numpy's ctypes addresses cost microseconds each, as much as a short run's
-        integration (the plan's lock makes the buffers one run's at a time)."""
+        asleep, until when each was taken from time or as a linear map) and their
+        addresses: kept for the next run of the same grid, since numpy's ctypes addresses
+        cost microseconds each, as much as a short run's integration (the plan's lock
+        makes the buffers one run's at a time)."""
         if self.grid is None or self.grid[0] != (start_time, stop_time, step):
             times = output_times(stop_time, step, start_time)
             check_output_values(len(times), len(self.column_names), "the output table")
