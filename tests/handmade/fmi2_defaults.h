@@ -13,6 +13,7 @@
 #define HANDMADE_FMI2_DEFAULTS_H
 
 #include <stdlib.h>
+#include <string.h>
 #include "fmi2Functions.h"
 
 #ifndef OWN_fmi2GetTypesPlatform
@@ -148,6 +149,20 @@ fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x[], size
     (void)c;
     for (size_t i = 0; i < nx; i++) x[i] = 1.0;
     return fmi2OK;
+}
+#endif
+/* no discrete states: an event changes nothing and schedules no time event */
+#ifndef OWN_fmi2NewDiscreteStates
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
+    (void)c;
+    memset(info, 0, sizeof *info);
+    return fmi2OK;
+}
+#endif
+/* no event indicators: asking for any is an error */
+#ifndef OWN_fmi2GetEventIndicators
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t nz) {
+    (void)c; (void)z; return nz ? fmi2Error : fmi2OK;
 }
 #endif
 #endif

@@ -51,16 +51,6 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     }
     return fmi2OK;
 }
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
-    (void)c;
-    info->newDiscreteStatesNeeded = fmi2False;
-    info->terminateSimulation = fmi2False;
-    info->nominalsOfContinuousStatesChanged = fmi2False;
-    info->valuesOfContinuousStatesChanged = fmi2False;
-    info->nextEventTimeDefined = fmi2False;
-    info->nextEventTime = 0;
-    return fmi2OK;
-}
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) { ((Instance *)c)->time = t; return fmi2OK; }
 /* the first nx states, as the standard has the importer say how many it holds */
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
@@ -73,9 +63,6 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t nx) {
     double d[2] = {s->x[1], -s->x[0]};
     for (size_t i = 0; i < nx && i < 2; i++) dx[i] = d[i];
     return fmi2OK;
-}
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t nz) {
-    (void)c; (void)z; return nz ? fmi2Error : fmi2OK;
 }
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     Instance *s = c;

@@ -79,11 +79,6 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 }
 
 /* Model Exchange */
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
-    UNUSED(c);
-    memset(info, 0, sizeof *info);
-    return fmi2OK;
-}
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) { ((Instance *)c)->time = t; return fmi2OK; }
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n) {
     if (n != 1) return fmi2Error;
@@ -92,9 +87,6 @@ fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t n) {
     if (n != 1) return fmi2Error;
     dx[0] = ((Instance *)c)->d; return fmi2OK;
-}
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t n) {
-    UNUSED(c); UNUSED(z); return n ? fmi2Error : fmi2OK;
 }
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t n) {
     if (n != 1) return fmi2Error;

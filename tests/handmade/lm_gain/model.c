@@ -70,20 +70,12 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
     return fmi2OK;
 }
 
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
-    (void)c;
-    memset(info, 0, sizeof *info);
-    return fmi2OK;
-}
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) { (void)c; (void)t; return fmi2OK; }
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
     (void)c; (void)x; return nx ? fmi2Error : fmi2OK;
 }
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t nx) {
     (void)c; (void)dx; return nx ? fmi2Error : fmi2OK;
-}
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t nz) {
-    (void)c; (void)z; return nz ? fmi2Error : fmi2OK;
 }
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     (void)c; (void)x; return nx ? fmi2Error : fmi2OK;

@@ -14,6 +14,8 @@
 #define HANDMADE_ME
 #define OWN_fmi2EnterEventMode
 #define OWN_fmi2EnterContinuousTimeMode
+#define OWN_fmi2NewDiscreteStates
+#define OWN_fmi2GetEventIndicators
 #include "../fmi2_defaults.h"
 
 enum { VR_X, VR_V, VR_DX, VR_DV, VR_W, VR_PERIOD, VR_POS, VR_ENTERED, VR_UPDATED,

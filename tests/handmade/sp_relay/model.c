@@ -62,11 +62,6 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     }
     return fmi2OK;
 }
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
-    (void)c;
-    memset(info, 0, sizeof *info);
-    return fmi2OK;
-}
 fmi2Status fmi2SetTime(fmi2Component c, fmi2Real t) { ((Instance *)c)->time = t; return fmi2OK; }
 fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
     if (nx != 1) return fmi2Error;
@@ -77,10 +72,6 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t nx) {
     if (nx != 1) return fmi2Error;
     dx[0] = -((Instance *)c)->v[VR_X];
     return fmi2OK;
-}
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t nz) {
-    (void)c; (void)z;
-    return nz == 0 ? fmi2OK : fmi2Error;
 }
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     if (nx != 1) return fmi2Error;

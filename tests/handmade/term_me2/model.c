@@ -12,6 +12,8 @@
 #define OWN_fmi2SetInteger
 #define OWN_fmi2CompletedIntegratorStep
 #define OWN_fmi2GetNominalsOfContinuousStates
+#define OWN_fmi2NewDiscreteStates
+#define OWN_fmi2GetEventIndicators
 #include "../fmi2_defaults.h"
 
 #define G 9.81
