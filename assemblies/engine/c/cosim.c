@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "instances.h"
+#include "linear_map.h"
 #include "loop.h"
 #include "output.h"
 #include "solver.h" /* MF_MIN_STEP: the shortest step time can resolve */
@@ -959,8 +960,8 @@ static int plan_evaluated(cosim *c)
 {
     const eng_cosim_spec *g = c->cfg;
     const int n = g->n_instances, nc = g->n_couplings;
-    int i, k, *cursor;
-    size_t total = 0;
+    int i, k;
+    size_t total;
     for (i = 0; i < n; i++) {
         const eng_instance_spec *in = &g->instances[i];
         c->evaluated[i] = in->n_event_indicators != 0 ? EVAL_NONE
@@ -980,27 +981,9 @@ static int plan_evaluated(cosim *c)
             && c->evaluated[cp->target.instance] == EVAL_LINEAR)
             c->evaluated[cp->target.instance] = EVAL_NONE;
     }
-    for (k = 0; k < nc; k++) c->ev_in_start[g->couplings[k].target.instance + 1]++;
-    for (i = 0; i < n; i++) c->ev_in_start[i + 1] += c->ev_in_start[i];
-    cursor = (int *)calloc((size_t)n + 1, sizeof(int));
-    if (!cursor) return fail(c, "out of memory");
-    for (k = 0; k < nc; k++) {
-        i = g->couplings[k].target.instance;
-        c->ev_in[c->ev_in_start[i] + cursor[i]++] = k;
-    }
-    free(cursor);
-    for (k = 0; k < nc; k++) { /* a row per coupling out of a linear one, as wide as its inputs */
-        size_t width;
-        i = g->couplings[k].source.instance;
-        if (c->evaluated[i] != EVAL_LINEAR) continue;
-        width = (size_t)(c->ev_in_start[i + 1] - c->ev_in_start[i]);
-        if (total + width > (size_t)1 << 24) { /* bounded: such a member is stepped */
-            c->evaluated[i] = EVAL_NONE;
-            continue;
-        }
-        c->ev_row[k] = (int)total;
-        total += width;
-    }
+    eng_inputs_by_target(g->couplings, nc, n, NULL, c->ev_in_start, c->ev_in);
+    total = eng_linear_rows(g->couplings, nc, c->ev_in_start, c->evaluated, EVAL_LINEAR,
+                            c->ev_row);
     c->ev_J = (double *)calloc(total + 1, sizeof(double));
     if (!c->ev_J) return fail(c, "out of memory");
     for (k = 0; k < g->n_columns; k++) c->recorded[g->columns[k].instance] = 1;

@@ -28,6 +28,7 @@
 #include "solver_implicit.h"
 #include "stiffness.h"
 #include "jacobian.h"
+#include "linear_map.h"
 #include "loop.h"
 
 #define MAX_EVENT_ITERATIONS 100
@@ -2007,28 +2008,9 @@ static int allocate_linear(me_master *M)
             M->linear[s->couplings[a].source.instance] = 0;
             M->linear[s->couplings[a].target.instance] = 0;
         }
-    /* the couplings into each, in order (lin_ready: a cursor, cleared after) */
-    for (k = 0; k < nc; k++)
-        if (M->linear[s->couplings[k].target.instance])
-            M->lin_in_start[s->couplings[k].target.instance + 1]++;
-    for (i = 0; i < n; i++) M->lin_in_start[i + 1] += M->lin_in_start[i];
-    for (k = 0; k < nc; k++) {
-        i = s->couplings[k].target.instance;
-        if (M->linear[i]) M->lin_in[M->lin_in_start[i] + M->lin_ready[i]++] = k;
-    }
-    memset(M->lin_ready, 0, (size_t)(n + 1) * sizeof(int));
-    for (k = 0; k < nc; k++) { /* a row per coupling out of one, as wide as its inputs */
-        i = s->couplings[k].source.instance;
-        if (!M->linear[i]) continue;
-        a = M->lin_in_start[i + 1] - M->lin_in_start[i];
-        if (total + (size_t)a > (size_t)1 << 24) { /* bounded: such a member is evaluated */
-            M->linear[i] = 0;
-            continue;
-        }
-        M->lin_row[k] = (int)total;
-        total += (size_t)a;
-    }
-    /* an instance dropped above keeps rows that are never read */
+    eng_inputs_by_target(s->couplings, nc, n, M->linear, M->lin_in_start, M->lin_in);
+    /* an instance dropped here keeps rows that are never read */
+    total = eng_linear_rows(s->couplings, nc, M->lin_in_start, M->linear, 1, M->lin_row);
     M->lin_J = calloc(total + 1, sizeof(double));
     if (!M->lin_J) return -1;
     for (i = 0; i < n; i++) M->any_linear = M->any_linear || M->linear[i];
