@@ -71,10 +71,13 @@ def test_an_instance_outside_the_event_sees_no_event_call():
     assert last["idle.entered"] == 0 and last["idle.updated"] == 1  # the start's only
     assert res.settings["event_instances"] == len(names) + 24
     t = np.asarray(res["time"])
+    # the events change nothing: what is left is the solver's global error at tolerance
+    # 1e-8 over about one period of the undamped oscillation (measured 9.4e-9 in all
+    # three), held to 10 x the tolerance
     for name in names:
         assert last[f"{name}.updated"] >= last[f"{name}.entered"] + 1  # and the start's
         assert last[f"{name}.misplaced"] == 0
-        np.testing.assert_allclose(res[f"{name}.pos"], np.cos(2.0 * t), rtol=0, atol=1e-6)
+        np.testing.assert_allclose(res[f"{name}.pos"], np.cos(2.0 * t), rtol=0, atol=1e-7)
 
 
 def test_members_with_modes_or_indicators_are_not_event_free():
