@@ -140,6 +140,7 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = DEFAULT_F
                                         "scalars only")
             plan.held = [0] * len(plan.pairs)
             plan.derivative = [-1] * len(plan.pairs)
+            plan.rates = [[] for _ in plan.pairs]
             # an input set from outside moves indicators while the states stand still,
             # as a time-dependent one does (and the joined model has no open inputs)
             fed = {c.target for c in couplings}
@@ -272,9 +273,10 @@ def _config(assembly, fmus, plan, ports, stop_time, step, tolerance, scheme, s) 
                           len(floats), *(w for pair in floats for w in pair),
                           len(ints), *(w for pair in ints for w in pair)))
     lines.append(f"couplings {len(plan.pairs)}")
-    lines += [line("coupling", var(src), var(tgt), float(gain), held, derivative)
-              for (src, tgt, gain), held, derivative
-              in zip(plan.pairs, plan.held, plan.derivative)]
+    lines += [line("coupling", var(src), var(tgt), float(gain), held, derivative, len(rates),
+                   *(var(r) for r in rates))
+              for (src, tgt, gain), held, derivative, rates
+              in zip(plan.pairs, plan.held, plan.derivative, plan.rates)]
     lines.append(f"groups {len(plan.groups)}")
     lines += [line("group", int(g in plan.loops), len(g), *g) for g in plan.groups]
     lines.append(line("sweep", *plan.sweep_order))

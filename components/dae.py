@@ -35,7 +35,15 @@ class Variable:
     description: str
     start: float = 0.0
     derivative_input: int | None = None  # for inputs: index of the input that is its time derivative
+    rate_of: int | None = None  # a flow input's rate: index of the input it extrapolates (no equation reads it)
     nominal: float = 1.0
+
+
+def _rate_unit(unit: str, order: int) -> str:
+    """N -> N/s, N/s2; m/s2 -> m/s3, m/s4."""
+    base, _, per = unit.partition("/s")
+    power = (int(per) if per else 1) if _ else 0
+    return f"{base}/s{power + order if power + order > 1 else ''}"
 
 
 @dataclass
@@ -162,6 +170,8 @@ class EquationBuilder:
                 if k > 0:  # v is the derivative of s, a of v: the runtime extrapolates with them
                     self.inputs[first_input + k - 1][0].derivative_input = first_input + k
                 self.inputs.append((var, sym))
+                if k == len(dom.across) - 1:
+                    self._rates(port, name, unit, var)
             elif causality == FORCE_IN:
                 self.unknowns.append(sym)
                 self.outputs.append((var, sym))
@@ -171,11 +181,28 @@ class EquationBuilder:
         flow_var = Variable(f"{port.name}.{flow_name}", flow_unit, f"{flow_desc} ({port.description})")
         if causality == FORCE_IN:
             self.inputs.append((flow_var, flow))
+            self._rates(port, flow_name, flow_unit, flow_var)
         else:
             self.unknowns.append(flow)  # solved always; exported unless the port is grounded
             if causality == MOTION_IN:
                 self.outputs.append((flow_var, flow))
         return _Namespace(f"{self.component._where()} port {port.name}", "port variable", **ns)
+
+    def _rates(self, port, name, unit, last):
+        """The first two time derivatives of the last input of a flange's chain (its
+        force, or the acceleration of a motion), as inputs along which the FMU
+        extrapolates it over a co-simulation step (FMI 3's way of input derivatives, as
+        v and a are s's): a master that knows how the input moves sets them, any other
+        leaves them at 0 and the input is held. No equation reads them."""
+        previous, of = last, len(self.inputs) - 1
+        for order in (1, 2):
+            suffix = "_rate" if order == 1 else "_rate2"
+            var = Variable(f"{port.name}.{name}{suffix}", _rate_unit(unit, order),
+                           f"{'rate' if order == 1 else 'second rate'} of {name} over a "
+                           f"co-simulation step, 0: held ({port.description})", rate_of=of)
+            previous.derivative_input = len(self.inputs)
+            self.inputs.append((var, ca.SX.sym(var.name)))
+            previous = var
 
     # --- the vocabulary of equations() ----------------------------------------
     def port(self, name: str):

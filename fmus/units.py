@@ -28,6 +28,15 @@ UNITS: dict[str, dict[str, int]] = {
     "J/s": {"kg": 1, "m": 2, "s": -3},  # der(W) of an energy state
     "N.m2": {"kg": 1, "m": 3, "s": -2},
     "s/m": {"m": -1, "s": 1},  # MassWithStopAndFriction.fexp: the Stribeck decay
+    # a force flange's rate inputs (components.dae: extrapolating the force in a step)
+    "N/s": {"kg": 1, "m": 1, "s": -3},
+    "N/s2": {"kg": 1, "m": 1, "s": -4},
+    "N.m/s": {"kg": 1, "m": 2, "s": -3},
+    "N.m/s2": {"kg": 1, "m": 2, "s": -4},
+    "m/s3": {"m": 1, "s": -3},
+    "m/s4": {"m": 1, "s": -4},
+    "rad/s3": {"rad": 1, "s": -3},
+    "rad/s4": {"rad": 1, "s": -4},
 }
 
 

@@ -33,7 +33,7 @@ from ..experiment import (FixedStepFallback, check_cosim_settings, check_experim
 from ..foreign import check_mode
 from ..inputs import with_inputs
 from ..limits import check_output_values
-from ..masters.extrapolation import derivative_couplings, is_held
+from ..masters.extrapolation import derivative_couplings, is_held, rate_inputs
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
 from ..value_types import CODES, CONTINUOUS
@@ -77,7 +77,7 @@ CONTINUOUS_CODES = {CODES[t] for t in CONTINUOUS}
 class _Spec(C.Structure):  # cosim.h: eng_cosim_spec
     _fields_ = [("n_instances", C.c_int), ("instances", _P(InstanceSpec)),
                 ("n_couplings", C.c_int), ("couplings", _P(Coupling)), ("held", _INT),
-                ("derivative", _INT),
+                ("derivative", _INT), ("rates", _P(Variable)),
                 ("n_groups", C.c_int), ("group_start", _INT), ("group_members", _INT),
                 ("group_is_loop", _INT), ("sweep_order", _INT),
                 ("n_states", C.c_int), ("states", _P(Variable)),
@@ -114,6 +114,7 @@ class CouplingPlan:
     held: list                 # per coupling: 1 if the FMU holds the input over a step
     derivative: list           # per coupling: the coupling setting its target's derivative
                                # input (the FMU extrapolates along that chain), or -1
+    rates: list                # per coupling: its target's rate inputs the master sets
     groups: list               # coupling indices per dependency group, sources first
     loops: list                # the groups that are algebraic loops
     sweep_order: list          # instance indices, Gauss-Seidel order
@@ -126,13 +127,19 @@ class CouplingPlan:
 def coupling_plan(assembly: Assembly, fmus: dict) -> CouplingPlan:
     couplings = assembly.couplings()
     names = list(assembly.components)
-    plan = CouplingPlan({n: i for i, n in enumerate(names)}, fmus, [], [], [], [], [], [], [])
+    plan = CouplingPlan({n: i for i, n in enumerate(names)}, fmus, [], [], [], [], [], [], [], [])
+    set_by_coupling = {}
+    for c in couplings:
+        set_by_coupling.setdefault(c.target[0], set()).add(c.target[1])
     for c in couplings:
         source, target = plan.variable(*c.source), plan.variable(*c.target)
         plan.pairs.append((source, target, c.gain))
+        chained, coupled = fmus[c.target[0]].chained, set_by_coupling[c.target[0]]
         # an input the FMU extrapolates itself (s with its v and a) is set as it is
-        plan.held.append(int(is_held(c.target[1], fmus[c.target[0]].chained,
-                                     target[2] not in CONTINUOUS_CODES)))
+        plan.held.append(int(is_held(c.target[1], chained, target[2] not in CONTINUOUS_CODES,
+                                     coupled)))
+        rates = rate_inputs(c.target[1], chained, coupled) if plan.held[-1] else []
+        plan.rates.append([plan.variable(c.target[0], r) for r in rates])
     plan.derivative = derivative_couplings(couplings, {n: fmus[n].chained for n in names})
     depends = {n: fmus[n].depends for n in names}
     inputs = {n: fmus[n].inputs for n in names}
@@ -229,6 +236,10 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                                            for s, t, gain in plan.pairs])
     spec.held = keep.array(C.c_int, plan.held)
     spec.derivative = keep.array(C.c_int, plan.derivative)
+    if any(plan.rates):
+        none = Variable(-1, 0, 0, 0, 0)
+        spec.rates = keep.array(Variable, [Variable(*r[j]) if j < len(r) else none
+                                           for r in plan.rates for j in range(2)])
     spec.n_groups = len(groups)
     spec.group_start = keep.array(C.c_int, np.cumsum([0] + [len(g) for g in groups]).tolist())
     spec.group_members = keep.array(C.c_int, [k for g in groups for k in g])

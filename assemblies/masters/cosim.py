@@ -59,7 +59,7 @@ from .adaptive import (COAST_DEFECT_GROWTH, COAST_GUARDED, COAST_KEEP, COAST_MAX
 from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
                      fires_at_start, locate_start_event, probe_step)
 from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, end_value,
-                            is_held, step_mean)
+                            is_held, rate_inputs, step_mean, taylor)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
 
@@ -343,16 +343,30 @@ class _Master:
         self.loops = [g for g in self.groups if is_loop(g, couplings, depends, inputs)]
         self.in_loop = {i for g in self.loops for i in g}
         # the inputs the FMU holds constant over a step: the master picks the constant
+        coupled = {}
+        for c in couplings:
+            coupled.setdefault(c.target[0], set()).add(c.target[1])
         self.held = {i for i, c in enumerate(couplings)
                      if is_held(c.target[1], instances[c.target[0]].chained,
-                                instances[c.target[0]].is_int(c.target[1]))}
+                                instances[c.target[0]].is_int(c.target[1]), coupled[c.target[0]])}
         self.history: dict[int, list[tuple[float, float]]] = {i: [] for i in self.held}
+        # held inputs whose target takes their rates: the polynomial itself goes into
+        # the step, not its mean (cosim.c set_held); the rates last set, per input
+        self.rates = {i: r for i in self.held
+                      if (r := rate_inputs(couplings[i].target[1],
+                                           instances[couplings[i].target[0]].chained,
+                                           coupled[couplings[i].target[0]]))}
+        self.rate_values = {i: [0.0, 0.0] for i in self.rates}
         # the chains an FMU extrapolates itself (s -> v -> a): how far the motion it
         # extrapolated strays from its source's by a step's end bounds the adaptive
         # step (cosim.c chain_defect says why)
         self.derivative = derivative_couplings(couplings, {n: i.chained
                                                            for n, i in instances.items()})
         self.chain_order = [chain_order(self.derivative, k) for k in range(len(couplings))]
+        for k in range(len(couplings)):  # rates at a chain's end: the polynomial's order
+            end = self._chain_end(k)
+            if end != k and end in self.rates:
+                self.chain_order[k] += extrapolation
         self.defect_tol = math.inf  # the adaptive tolerance (set by the stepper)
         self.defect, self.defect_order = 0.0, 1  # the last step's (chain_defect)
         self.coupling_defect = 0.0  # ... worst coupling off its extrapolation (chain_defect)
@@ -406,14 +420,46 @@ class _Master:
             if abs(now - was) > self.defect_tol * (1.0 + abs(now)):
                 self.history[i] = self.history[i][-1:]
 
-    def _held_value(self, i: int, t: float, h: float, t_source: float, now: float) -> float:
-        """The constant for held input `i` over [t, t + h]; `now` is its source's value at
-        `t_source` (t, or t + h where Gauss–Seidel stepped the source already)."""
-        if self.extrapolation == 0 and t_source == t:
-            return now
+    @property
+    def all_rated(self) -> bool:
+        """Every held input takes its rates: the coupling's order is the extrapolation's
+        + 1 (cosim.c all_rated)."""
+        return all(i in self.rates for i in self.held)
+
+    def _chain_end(self, k: int) -> int:
+        d, links = k, 0
+        while self.derivative[d] >= 0 and links <= len(self.couplings):
+            d, links = self.derivative[d], links + 1
+        return d
+
+    def _set_rates(self, i: int, rates: list[float]) -> None:
+        target = self.couplings[i].target[0]
+        for name, value in zip(self.rates[i], rates):
+            self._set(target, name, value)
+        self.rate_values[i] = (rates + [0.0])[:2] if len(self.rates[i]) > 1 else [rates[0], 0.0]
+
+    def _set_held(self, i: int, t: float, h: float, t_source: float, now: float) -> None:
+        """Set held input `i` for [t, t + h]: the extrapolating polynomial itself where
+        its target takes the rates, its step mean otherwise; `now` is its source's value
+        at `t_source` (t, or t + h where Gauss–Seidel stepped the source already)."""
+        target = self.couplings[i].target
+        if self.extrapolation == 0 and t_source == t and i not in self.rates:
+            self._set(*target, now)
+            return
         eps = 1e-12 * max(1.0, abs(t_source))
         points = [p for p in self.history[i] if p[0] < t_source - eps] + [(t_source, now)]
-        return step_mean(points, t, h, self.extrapolation)
+        if i not in self.rates:
+            self._set(*target, step_mean(points, t, h, self.extrapolation))
+            return
+        value, *rates = taylor(points, t, h, self.extrapolation)
+        self._set(*target, value)
+        self._set_rates(i, rates)
+
+    def _set_raw(self, i: int, value: float) -> None:
+        """Set input `i` to its source's value, held: its rates, if any, are 0."""
+        self._set(*self.couplings[i].target, value)
+        if i in self.rates:
+            self._set_rates(i, [0.0, 0.0])
 
     def _do_step(self, name: str, t: float, h: float) -> None:
         inst = self.instances[name]
@@ -429,10 +475,11 @@ class _Master:
         for inst in self.instances.values():
             inst.clear_event_flags()
         if self.scheme == "jacobi":
-            if extrapolate:
-                for i in self.held:
-                    c = self.couplings[i]
-                    self._set(*c.target, self._held_value(i, t, h, t, self.history[i][-1][1]))
+            for i in self.held:
+                if extrapolate:
+                    self._set_held(i, t, h, t, self.history[i][-1][1])
+                else:
+                    self._set_raw(i, self._get(*self.couplings[i].target))
             for name in self.instances:
                 self._do_step(name, t, h)
         else:
@@ -446,9 +493,12 @@ class _Master:
                         continue  # keeps the loop's consistent value from t
                     now = _scaled(c.gain, self._get(*c.source)) if (ahead or i not in self.in_loop) \
                         else self.history[i][-1][1]
-                    value = self._held_value(i, t, h, t + h if ahead else t, now) \
-                        if i in self.held and extrapolate else now
-                    self._set(*c.target, value)
+                    if i in self.held and extrapolate:
+                        self._set_held(i, t, h, t + h if ahead else t, now)
+                    elif i in self.held:
+                        self._set_raw(i, now)
+                    else:
+                        self._set(*c.target, now)
                 self._do_step(name, t, h)
                 done.add(name)
         if self.terminated is None:
@@ -473,6 +523,11 @@ class _Master:
             if rate != 0.0:
                 value += rate * term
             d = self.derivative[d]
+        for rate in self.rate_values.get(self._chain_end(k), ()):  # the end's own rates
+            term *= h / order
+            order += 1
+            if rate != 0.0:
+                value += rate * term
         return value
 
     def _source_had_event(self, k: int) -> bool:
@@ -716,8 +771,10 @@ class _Stepper:
         self.rollback = adaptive or event_sync
         self.sample, self.progress = sample, progress
         # global order of the coupling: 1 with a zero-order hold, 2 with a step-mean
-        # extrapolation (see assemblies.extrapolation for why not 3 with quadratic)
-        self.ctrl = StepController(tol, 1 if extrapolation == 0 else 2,
+        # extrapolation (see assemblies.extrapolation for why not 3 with quadratic), the
+        # extrapolation's + 1 where every held input takes its rates
+        self.ctrl = StepController(tol, 1 if extrapolation == 0
+                                   else extrapolation + 1 if master.all_rated else 2,
                                    out_times[-1] - start_time, step)
         master.defect_tol = tol
         self.t = start_time

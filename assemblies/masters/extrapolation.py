@@ -4,20 +4,22 @@ FMI 3 Co-Simulation has no input-derivative call (FMI 2's
 ``fmi2SetRealInputDerivatives``): an FMU holds an input constant over a step
 unless it extrapolates it itself. Ours do so along a *derivative chain* of
 inputs: a flange's ``s`` is extrapolated with ``v`` and ``a``, ``v`` with ``a``
-(Taylor, quadratic and linear). The end of each chain (``a``) and every input
-with no derivative input (forces, signals) stays constant over the step.
+(Taylor, quadratic and linear), and the end of each chain (a force ``f``, or a
+motion's ``a``) with its *rate inputs* ``f_rate``, ``f_rate2`` (``a_rate``,
+``a_rate2``), which nothing couples and which stay 0 for an importer that never
+sets them. Signals have no chain and stay constant over the step.
 
-What the master can honestly do for such a held input: choose the constant. With
-extrapolation order p it fits the polynomial of degree p through the source's
-last p + 1 values at communication points (interpolating where Gauss–Seidel has
-already stepped the source) and holds that polynomial's *mean over the step*.
-The input's integral over the step (the impulse of a force, the velocity change
-from an acceleration) is then exact to O(h^(p+2)); its double integral (the
-displacement it causes) stays O(h^3) because a constant cannot carry a slope.
-So orders 1 and 2 raise a ZOH coupling from global order 1 to 2 in velocities
-and positions, and order 2 adds accuracy only in velocity-like quantities. A
-genuinely time-varying input inside a step would need FMI 2 input derivatives
-or an FMU-side chain (a jerk input), which our FMUs do not offer.
+With extrapolation order p the master fits the polynomial of degree p through a
+held input's last p + 1 values at communication points (interpolating where
+Gauss–Seidel has already stepped the source). Where the target takes the
+input's rates, the master sets the polynomial's value, slope and curvature at
+the step's start (:func:`taylor`) and the FMU runs along the polynomial itself:
+the input is O(h^(p+1)) off within the step, and the coupling is of global
+order p + 1 (two_block_belt, fixed steps: 2.00 with p = 1, 3.00 with p = 2).
+Elsewhere the master holds the polynomial's *mean over the step*: the input's
+integral over the step is then exact to O(h^(p+2)), but its double integral
+(the displacement it causes) stays O(h^3), because a constant cannot carry a
+slope, and the coupling is of order 2 for p = 1 and 2 alike.
 """
 from __future__ import annotations
 
@@ -33,6 +35,14 @@ def step_mean(points: list[tuple[float, float]], t: float, h: float, order: int)
     ``order + 1`` lower the degree (the first steps of a run).
     """
     return float(sum(ck / (k + 1) for k, ck in enumerate(_fit(points, t, h, order))))
+
+
+def taylor(points: list[tuple[float, float]], t: float, h: float, order: int) -> list[float]:
+    """Value, slope and curvature at `t` of the polynomial through the last ``order + 1``
+    points (0 where its degree is lower): what a target's rate inputs take, so that its
+    Taylor chain runs along the polynomial over the step."""
+    coef = _fit(points, t, h, order) + [0.0, 0.0]
+    return [float(coef[0]), float(coef[1] / h), float(2.0 * coef[2] / (h * h))]
 
 
 def end_value(points: list[tuple[float, float]], h: float, order: int) -> float:
@@ -74,13 +84,26 @@ def derivative_inputs(component) -> dict[str, str]:
             if v.derivative_input is not None}
 
 
-def is_held(name: str, chained: dict, is_int: bool) -> bool:
+def rate_inputs(name: str, chained: dict, set_by_coupling) -> list[str]:
+    """The chain below input `name` that no coupling sets (a force flange's f_rate and
+    f_rate2): the master sets them from the polynomial it extrapolates `name` with.
+    Empty where the chain is coupled (s -> v -> a) or there is none."""
+    out, d = [], chained.get(name)
+    while d is not None and d not in set_by_coupling and len(out) < 2:
+        out.append(d)
+        d = chained.get(d)
+    return out
+
+
+def is_held(name: str, chained: dict, is_int: bool, set_by_coupling=()) -> bool:
     """Does the FMU hold input `name` constant over a step, with the master choosing the
     constant? Not an input it extrapolates along a chain (`chained`: derivative_inputs),
     nor an integer. The end of a chain (a) is held: its step mean keeps the chain's
     velocity exact to O(h^3) (setting it to the source's value at the step's start, the
     plain Taylor chain, was measured 15x as many steps on the short-slip fixture)."""
-    return name not in chained and not is_int
+    if is_int:
+        return False
+    return name not in chained or bool(rate_inputs(name, chained, set_by_coupling))
 
 
 def derivative_couplings(couplings, chained: dict) -> list[int]:
@@ -104,5 +127,5 @@ def chain_order(derivative: list[int], k: int) -> int:
     return order
 
 
-__all__ = ["ORDERS", "chain_order", "is_held", "derivative_couplings", "derivative_inputs",
+__all__ = ["ORDERS", "chain_order", "is_held", "rate_inputs", "taylor", "derivative_couplings", "derivative_inputs",
            "end_value", "step_mean"]

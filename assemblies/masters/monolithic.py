@@ -101,7 +101,10 @@ def join(assembly: Assembly) -> JoinedModel:
         old.append(m.t)
         new.append(t)
         for i, v in enumerate(m.inputs):
-            if (name, v.name) in feeds:
+            if v.rate_of is not None:  # only a co-simulation step reads it
+                old.append(m.u[i])
+                new.append(ca.SX(0))
+            elif (name, v.name) in feeds:
                 old.append(m.u[i])
                 new.append(resolved[(name, v.name)])
             else:

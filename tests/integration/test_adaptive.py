@@ -95,14 +95,15 @@ def test_options_are_checked_and_reach_run_scene():
 
 
 @pytest.mark.parametrize("name, periods", SWEEP)
-def test_the_default_extrapolation_reaches_a_smaller_error_with_fewer_do_steps(name, periods):
-    # issue 27: the compiled master's default holds the step mean of the quadratic
-    # extrapolation, not the linear one: both are global order 2 (module doc of
-    # assemblies.masters.extrapolation) but the parabola's error constant on a shaken
-    # table is smaller, so step doubling settles on longer steps. Against the scipy
-    # reference, at each tolerance the default must be more accurate than linear and
-    # cost well under its doSteps. Measured (error ratio, doSteps ratio): moving_table
-    # 0.47, 0.42 at 1e-3 and 0.33, 0.16 at 1e-5; conveyor 0.61, 0.41 and 0.43, 0.16.
+def test_the_default_extrapolation_meets_the_tolerance_with_fewer_do_steps(name, periods):
+    # issue 27: the compiled master's default extrapolates quadratically, and the block
+    # takes the table's acceleration as that parabola itself (its support.a_rate and
+    # a_rate2 inputs), a coupling of global order 3 against linear's 2 (module doc of
+    # assemblies.masters.extrapolation). Against the scipy reference, at each tolerance
+    # the default must stay within it and cost well under linear's doSteps.
+    # Measured (error / tol, doSteps ratio): moving_table 0.26, 0.34 at 1e-3 and 0.23,
+    # 0.12 at 1e-5; conveyor 0.30, 0.29 and 0.16, 0.13 (was, held as the step mean, the
+    # same order as linear: error 0.61x and 0.43x linear's on conveyor).
     from assemblies.engine.cosim import DEFAULT_SCHEME, cosimulate as engine_cosimulate
     stop = periods * PERIOD
     out = stop / 24
@@ -116,7 +117,7 @@ def test_the_default_extrapolation_reaches_a_smaller_error_with_fewer_do_steps(n
                                     **dict(DEFAULT_SCHEME, tol=tol, extrapolation=extrapolation))
             runs[extrapolation] = (_error(res, ref), res.settings["do_steps"])
         (err_lin, cost_lin), (err, cost) = runs[1], runs[DEFAULT_SCHEME["extrapolation"]]
-        assert err < err_lin and cost < 0.6 * cost_lin, (tol, runs)
+        assert err <= tol and cost < 0.6 * cost_lin, (tol, runs)
 
 
 def test_a_tighter_tolerance_buys_a_smaller_error_at_the_scenes_fmu_tolerance():

@@ -52,7 +52,8 @@ def _reference(times):
     A, B, C, D = (np.asarray(v) for v in jac(zero_x, zero_u, p0))
     # f = -M a and a = C_a x + D_a f  =>  f = -M C_a x / (1 + M D_a)
     gain = -M_BLOCK / (1.0 + M_BLOCK * D[1, 0])
-    closed = A + B @ (gain * C[1:2, :])
+    # (the force's column: its rate inputs only extrapolate it in a co-simulation step)
+    closed = A + B[:, :1] @ (gain * C[1:2, :])
     x0 = np.array([v.start for v in m.states])
     return np.array([(C[0] @ expm(closed * t) @ x0) for t in times]), D[1, 0]
 

@@ -133,6 +133,8 @@ struct cosim {
     int *moving;              /* per instance, while groups are checked: a derivative is not 0 */
     int *which;               /* instances whose event is being located */
     int hold_raw;             /* this step holds the sources' values (no extrapolation) */
+    int all_rated;            /* every held input of a stepped member takes its rates: the
+                                 coupling's order is the extrapolation's + 1 */
     int rejected_last;        /* the step controller's last step was rejected */
     int coast;                /* unjudged steps of h_coast left before the next estimate */
     double h_coast;           /* their length: the half step the estimate found good */
@@ -141,6 +143,7 @@ struct cosim {
     double *settle_u;         /* the inputs where an event's modes began to settle */
     int unsettled;            /* settling was cut at an output point: it goes on from there */
     int *chain_order;         /* chained inputs: 1 + the chain's length below them */
+    double *rate_v;           /* per coupling, two: the rates set on its target (cosim.h) */
     double defect;            /* the last step's worst chain defect over its allowance */
     int defect_order;         /* ... and the order of that chain's defect in the step */
     eng_loop loop;            /* the loop solver, sized for the largest group */
@@ -330,15 +333,13 @@ static double step_mean(const double *pt, const double *pv, int n, double t, dou
     return mean;
 }
 
-/* The constant for held input k over [t, t + h]; `now` is its source's value at
-   t_source (t, or t + h where Gauss–Seidel stepped the source already). */
-static double held_value(const cosim *c, int k, double t, double h, double t_source, double now)
+/* Held input k's history before t_source, then `now`, its source's value at t_source
+   (t, or t + h where Gauss–Seidel stepped the source already); returns how many. */
+static int held_points(const cosim *c, int k, double t_source, double now, double *pt, double *pv)
 {
-    double pt[HISTORY + 1], pv[HISTORY + 1];
     const double *ht = c->hist_t + k * HISTORY, *hv = c->hist_v + k * HISTORY;
     double eps = 1e-12 * fmax(1.0, fabs(t_source));
     int n = 0, j;
-    if (c->cfg->extrapolation == 0 && t_source == t) return now;
     for (j = 0; j < c->hist_n[k]; j++) {
         if (ht[j] < t_source - eps) {
             pt[n] = ht[j];
@@ -348,7 +349,60 @@ static double held_value(const cosim *c, int k, double t, double h, double t_sou
     }
     pt[n] = t_source;
     pv[n] = now;
-    return step_mean(pt, pv, n + 1, t, h, c->cfg->extrapolation);
+    return n + 1;
+}
+
+/* The constant for held input k over [t, t + h]. */
+static double held_value(const cosim *c, int k, double t, double h, double t_source, double now)
+{
+    double pt[HISTORY + 1], pv[HISTORY + 1];
+    int n;
+    if (c->cfg->extrapolation == 0 && t_source == t) return now;
+    n = held_points(c, k, t_source, now, pt, pv);
+    return step_mean(pt, pv, n, t, h, c->cfg->extrapolation);
+}
+
+/* Held input k's rate inputs, where its target has them (cosim.h: rates); NULL
+   otherwise. */
+static const eng_variable *rate_inputs(const cosim *c, int k)
+{
+    const eng_variable *r = c->cfg->rates ? c->cfg->rates + 2 * k : NULL;
+    return r && r[0].instance >= 0 ? r : NULL;
+}
+
+/* A member the master evaluates takes its inputs at communication points only: its
+   rates are kept for the chains' end values (so that the step control is the same as
+   with the member stepped), not set. */
+static int set_rates(cosim *c, int k, const eng_variable *r, double rate, double rate2, double t)
+{
+    if (!(c->any_evaluated && c->evaluated[r[0].instance])
+        && (eng_set_value(c->fmus[r[0].instance], &r[0], rate)
+            || (r[1].instance >= 0 && eng_set_value(c->fmus[r[1].instance], &r[1], rate2))))
+        return fmu_fail(c, r[0].instance, "set of a rate input", t);
+    c->rate_v[2 * k] = rate;
+    c->rate_v[2 * k + 1] = r[1].instance >= 0 ? rate2 : 0.0;
+    return 0;
+}
+
+/* Sets held input k for the step [t, t + h]: the extrapolating polynomial itself where
+   its target takes the input's rates (its value, slope and curvature at t, which the
+   FMU's Taylor chain turns back into the polynomial), its step mean otherwise. */
+static int set_held(cosim *c, int k, double t, double h, double t_source, double now)
+{
+    const eng_variable *r = rate_inputs(c, k);
+    double pt[HISTORY + 1], pv[HISTORY + 1], coef[3] = {0.0, 0.0, 0.0};
+    if (!r) return set_input(c, k, held_value(c, k, t, h, t_source, now), t);
+    fit_poly(pt, pv, held_points(c, k, t_source, now, pt, pv), t, h, c->cfg->extrapolation, coef);
+    if (set_input(c, k, coef[0], t)) return -1;
+    return set_rates(c, k, r, coef[1] / h, 2.0 * coef[2] / (h * h), t);
+}
+
+/* Sets input k to its source's value, held: its rates, if any, are 0. */
+static int set_raw(cosim *c, int k, double value, double t)
+{
+    const eng_variable *r = c->cfg->held[k] ? rate_inputs(c, k) : NULL;
+    if (set_input(c, k, value, t)) return -1;
+    return r ? set_rates(c, k, r, 0.0, 0.0, t) : 0;
 }
 
 /* ---------------------------------------------------------------------------- */
@@ -359,11 +413,16 @@ static double held_value(const cosim *c, int k, double t, double h, double t_sou
 static double chain_end_value(const cosim *c, int k, double h)
 {
     double value = c->u[k], term = 1.0;
-    int d = c->cfg->derivative[k], order = 1;
+    int d = c->cfg->derivative[k], order = 1, end = k, j;
     while (d >= 0 && order <= c->cfg->n_couplings) {
         term *= h / order++;
         if (c->u[d] != 0.0) value += c->u[d] * term;
+        end = d;
         d = c->cfg->derivative[d];
+    }
+    for (j = 0; j < 2; j++) { /* the chain's end goes on along its rates (0 where none) */
+        term *= h / order++;
+        if (c->rate_v[2 * end + j] != 0.0) value += c->rate_v[2 * end + j] * term;
     }
     return value;
 }
@@ -612,11 +671,12 @@ static int step(cosim *c, double t, double h)
     int i, k;
     clear_event_flags(c);
     if (g->scheme == ENG_JACOBI) {
-        if (extrapolate)
-            for (k = 0; k < g->n_couplings; k++)
-                if (g->held[k] && set_input(c, k, held_value(c, k, t, h, t,
-                                                              c->hist_v[k * HISTORY + c->hist_n[k] - 1]), t))
-                    return -1;
+        for (k = 0; k < g->n_couplings; k++) {
+            double now;
+            if (!g->held[k]) continue;
+            now = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
+            if (extrapolate ? set_held(c, k, t, h, t, now) : set_raw(c, k, c->u[k], t)) return -1;
+        }
         for (i = 0; i < g->n_instances; i++)
             if (do_step(c, i, t, h)) return -1;
     } else {
@@ -626,7 +686,7 @@ static int step(cosim *c, double t, double h)
             int name = g->sweep_order[n];
             for (k = 0; k < g->n_couplings && !status; k++) {
                 int ahead;
-                double now, value;
+                double now;
                 if (g->couplings[k].target.instance != name) continue;
                 ahead = done[g->couplings[k].source.instance];
                 if (c->in_loop[k] && !(g->held[k] && extrapolate))
@@ -636,9 +696,9 @@ static int step(cosim *c, double t, double h)
                 } else {
                     now = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
                 }
-                value = g->held[k] && extrapolate ? held_value(c, k, t, h, ahead ? t + h : t, now)
-                                                  : now;
-                if (set_input(c, k, value, t)) status = -1;
+                if (g->held[k] && extrapolate ? set_held(c, k, t, h, ahead ? t + h : t, now)
+                                              : set_raw(c, k, now, t))
+                    status = -1;
             }
             if (!status && do_step(c, name, t, h)) status = -1;
             done[name] = 1;
@@ -1068,6 +1128,7 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->predicted = (double *)calloc((size_t)n_c, sizeof(double));
     c->settle_u = (double *)calloc((size_t)n_c, sizeof(double));
     c->chain_order = (int *)calloc((size_t)n_c, sizeof(int));
+    c->rate_v = (double *)calloc(2 * (size_t)n_c, sizeof(double));
     c->row = (double *)calloc((size_t)width_max, sizeof(double));
     c->evaluated = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
     c->recorded = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
@@ -1091,7 +1152,7 @@ static int create(cosim *c, const eng_cosim_spec *g)
             largest_loop = g->group_start[k + 1] - g->group_start[k];
     if (!c->run || !c->inst || !c->fmus || !c->u || !c->hist_t || !c->hist_v || !c->hist_n
         || !c->in_loop || !c->done || !c->moving || !c->asleep_since || !c->which || !c->state
-        || !c->coarse || !c->row || !c->predicted || !c->settle_u || !c->chain_order
+        || !c->coarse || !c->row || !c->predicted || !c->settle_u || !c->chain_order || !c->rate_v
         || eng_loop_alloc(&c->loop, largest_loop))
         return fail(c, "out of memory");
     for (k = 0; k < g->n_couplings; k++) {
@@ -1109,6 +1170,14 @@ static int create(cosim *c, const eng_cosim_spec *g)
             for (k = g->group_start[grp]; k < g->group_start[grp + 1]; k++)
                 c->in_loop[g->group_members[k]] = 1;
     if (plan_evaluated(c)) return -1;
+    c->all_rated = 1;
+    for (k = 0; k < g->n_couplings; k++) {
+        int end = k, links = 0;
+        if (g->held[k] && !rate_inputs(c, k)) c->all_rated = 0;
+        while (g->derivative[end] >= 0 && links++ <= g->n_couplings) end = g->derivative[end];
+        /* rates at a chain's end extrapolate it to the polynomial's order */
+        if (end != k && rate_inputs(c, end)) c->chain_order[k] += g->extrapolation;
+    }
     for (i = 0; i < g->n_instances; i++) {
         instance *in = &c->inst[i];
         char err[512];
@@ -1226,7 +1295,7 @@ static void start_stepping(cosim *c, double t0, double horizon)
     c->ctl.tol = g->tol;
     c->ctl.horizon = horizon;
     c->ctl.h_max = g->step;
-    c->ctl.order = g->extrapolation == 0 ? 1 : 2;
+    c->ctl.order = g->extrapolation == 0 ? 1 : c->all_rated ? g->extrapolation + 1 : 2;
     c->h = g->adaptive ? g->step / 4 : g->step;
     c->coast = 0;
     c->coast_run = COAST_STEPS;
@@ -1576,6 +1645,7 @@ static void destroy(cosim *c)
     free(c->predicted);
     free(c->settle_u);
     free(c->chain_order);
+    free(c->rate_v);
     eng_loop_free(&c->loop);
     free(c->row);
     free(c->evaluated);

@@ -52,6 +52,10 @@ typedef struct {
     const int *derivative;          /* per coupling: the coupling that sets its target's
                                        derivative input (the FMU extrapolates the input
                                        along that chain over a step), or -1 */
+    const eng_variable *rates;      /* per held coupling, two: its target's first and second
+                                       rate inputs (a force flange's f_rate, f_rate2), which
+                                       carry the extrapolating polynomial into the step;
+                                       instance -1 where it has none. NULL: none at all */
     int n_groups;                   /* coupling groups in dependency order (sources first) */
     const int *group_start;         /* n_groups + 1 offsets into group_members */
     const int *group_members;       /* coupling indices */

@@ -224,7 +224,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     eng_cosim_spec *g = &cfg->spec;
     reader r = {0};
     char path[4096];
-    int i, k, n;
+    int i, j, k, n, rated;
     memset(cfg, 0, sizeof *cfg);
     snprintf(path, sizeof path, "%s/assembly.txt", resources_dir);
     if (read_all(path, &cfg->text)) {
@@ -297,9 +297,11 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     cfg->couplings = (eng_coupling *)table(&r, (size_t)n, sizeof *cfg->couplings);
     cfg->held = (int *)table(&r, (size_t)n, sizeof(int));
     cfg->derivative = (int *)table(&r, (size_t)n, sizeof(int));
+    cfg->rates = (eng_variable *)table(&r, 2 * (size_t)n, sizeof(eng_variable));
     g->couplings = cfg->couplings;
     g->held = cfg->held;
     g->derivative = cfg->derivative;
+    g->rates = cfg->rates;
     for (k = 0; k < n && !r.failed; k++) {
         expect(&r, "coupling");
         variable(&r, &cfg->couplings[k].source, g->n_instances);
@@ -307,6 +309,11 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
         cfg->couplings[k].gain = number(&r);
         cfg->held[k] = (int)integer(&r, 0, 1);
         cfg->derivative[k] = (int)integer(&r, -1, n - 1);
+        rated = (int)integer(&r, 0, 2); /* its target's rate inputs (then instance -1) */
+        for (j = 0; j < 2 && cfg->rates; j++) {
+            if (j < rated) variable(&r, &cfg->rates[2 * k + j], g->n_instances);
+            else cfg->rates[2 * k + j].instance = -1;
+        }
     }
 
     expect(&r, "groups");
@@ -421,6 +428,7 @@ void asm_config_free(asm_config *cfg)
     free(cfg->couplings);
     free(cfg->held);
     free(cfg->derivative);
+    free(cfg->rates);
     free(cfg->group_start);
     free(cfg->group_members);
     free(cfg->group_is_loop);
