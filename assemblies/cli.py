@@ -330,10 +330,10 @@ def _parser() -> argparse.ArgumentParser:
                         "n, ...: a wrong name lists them)")
     r.add_argument("--scheme", choices=("jacobi", "gauss-seidel"),
                    help="co-simulation sweep (mode cosim only; default: jacobi)")
-    r.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
-                   help="order of the input extrapolation held over a step: 0 constant, "
-                        "1 linear, 2 quadratic (mode cosim only; default: 2 when adaptive, "
-                        "0 with --fixed-step)")
+    r.add_argument("--extrapolation", type=int, choices=(0, 1, 2, 3),
+                   help="order of the polynomial a coupled force or acceleration follows "
+                        "over a step: 0 constant, 1 linear, 2 quadratic, 3 cubic (mode cosim "
+                        "only; default: 3 when adaptive, 0 with --fixed-step)")
     steps = r.add_mutually_exclusive_group()
     steps.add_argument("--adaptive", type=float, nargs="?", const=1e-5, metavar="TOL",
                        help="adaptive communication step with step-doubling error control to "

@@ -82,8 +82,8 @@ def check_cosim_settings(scheme: str, extrapolation: int, adaptive: bool, tol: f
     if scheme not in ("jacobi", "gauss-seidel"):
         raise AssemblyError(f"scheme must be 'jacobi' or 'gauss-seidel', not '{scheme}'")
     if extrapolation not in ORDERS:
-        raise AssemblyError(f"extrapolation must be 0 (constant), 1 (linear) or 2 (quadratic), "
-                            f"not {extrapolation!r}")
+        raise AssemblyError(f"extrapolation must be 0 (constant), 1 (linear), 2 (quadratic) or "
+                            f"3 (cubic), not {extrapolation!r}")
     if adaptive and not (isinstance(tol, (int, float)) and math.isfinite(tol) and 0 < tol < 1):
         # 0 is not "off": it would ask for an error no step can meet
         raise AssemblyError(f"adaptive tolerance tol must be in (0, 1), not {tol!r} (fixed "

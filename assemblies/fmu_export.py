@@ -144,7 +144,8 @@ def export_fmu(assembly: Assembly, path: str | os.PathLike, fmi: int = DEFAULT_F
             # an input set from outside moves indicators while the states stand still,
             # as a time-dependent one does (and the joined model has no open inputs)
             fed = {c.target for c in couplings}
-            open_inputs = any((n, i) not in fed for n in names for i in fmus[n].inputs)
+            open_inputs = any((n, i) not in fed for n in names for i in fmus[n].inputs
+                              if i not in fmus[n].rate_inputs)
             s["max_step"] = step if open_inputs or step_limit_needed(assembly) else 0.0
     finally:
         assembly.signals_from_outside = False
@@ -213,7 +214,9 @@ def _interface(assembly, fmus, plan, outputs, mode, fmi) -> list[dict]:
 
     for instance in fmus:
         for name in fmus[instance].inputs:
-            if (plan.index[instance], plan.variable(instance, name)[1]) not in coupled:
+            # (a rate input is the master's to set within its doStep, held at 0 otherwise)
+            if (plan.index[instance], plan.variable(instance, name)[1]) not in coupled \
+                    and name not in fmus[instance].rate_inputs:
                 add(instance, name, "input")
     for instance, name in record_columns(fmus, outputs):
         add(instance, name, "output")

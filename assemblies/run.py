@@ -120,7 +120,7 @@ def run_scene(name: str, stop_time: float | None = None, step: float | None = No
     engine (``c``, default) or in the fmpy-driven Python masters (``fmpy``, the reference).
 
     Co-simulation by default controls its error: adaptive communication steps to
-    ``DEFAULT_COSIM['tol']`` with quadratic input extrapolation and events synchronised
+    ``DEFAULT_COSIM['tol']`` with cubic input extrapolation and events synchronised
     across FMUs (`step` is then the output interval), and a scene of one FMU runs as a
     single FMU whose solver steps freely. ``adaptive=False`` asks for a fixed
     communication step `step`, ``adaptive=TOL`` for another tolerance; `extrapolation`

@@ -2,7 +2,7 @@
 error (issue 27).
 
     python -m benchmarks.cosim_fixed [--scenes NAME …] [--repeats N] [--json FILE]
-                                     [--extrapolation 0|1|2]
+                                     [--extrapolation 0|1|2|3]
 
 Targets: on every joined scene the default co-simulation (adaptive, the default's input
 extrapolation, events synchronised) costs no more than the cheapest fixed communication
@@ -227,7 +227,7 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--json", default="benchmarks/cosim_fixed.json")
-    ap.add_argument("--extrapolation", type=int, choices=(0, 1, 2),
+    ap.add_argument("--extrapolation", type=int, choices=(0, 1, 2, 3),
                     default=DEFAULT_SCHEME["extrapolation"],
                     help="input extrapolation of every run, adaptive and fixed (default: "
                          "the default co-simulation's)")

@@ -40,7 +40,7 @@ class Variable:
 
 
 def _rate_unit(unit: str, order: int) -> str:
-    """N -> N/s, N/s2; m/s2 -> m/s3, m/s4."""
+    """N -> N/s, N/s2, N/s3; m/s2 -> m/s3, m/s4, m/s5."""
     base, _, per = unit.partition("/s")
     power = (int(per) if per else 1) if _ else 0
     return f"{base}/s{power + order if power + order > 1 else ''}"
@@ -189,17 +189,17 @@ class EquationBuilder:
         return _Namespace(f"{self.component._where()} port {port.name}", "port variable", **ns)
 
     def _rates(self, port, name, unit, last):
-        """The first two time derivatives of the last input of a flange's chain (its
+        """The first three time derivatives of the last input of a flange's chain (its
         force, or the acceleration of a motion), as inputs along which the FMU
         extrapolates it over a co-simulation step (FMI 3's way of input derivatives, as
         v and a are s's): a master that knows how the input moves sets them, any other
         leaves them at 0 and the input is held. No equation reads them."""
         previous, of = last, len(self.inputs) - 1
-        for order in (1, 2):
-            suffix = "_rate" if order == 1 else "_rate2"
+        for order, which in ((1, "rate"), (2, "second rate"), (3, "third rate")):
+            suffix = "_rate" if order == 1 else f"_rate{order}"
             var = Variable(f"{port.name}.{name}{suffix}", _rate_unit(unit, order),
-                           f"{'rate' if order == 1 else 'second rate'} of {name} over a "
-                           f"co-simulation step, 0: held ({port.description})", rate_of=of)
+                           f"{which} of {name} over a co-simulation step, 0: held "
+                           f"({port.description})", rate_of=of)
             previous.derivative_input = len(self.inputs)
             self.inputs.append((var, ca.SX.sym(var.name)))
             previous = var

@@ -184,6 +184,8 @@ def model_facts(model) -> dict:
     each variable that has one."""
     return {"chained_inputs": {v.name: model.inputs[v.derivative_input].name
                                for v in model.inputs if v.derivative_input is not None},
+            # the chains' rate inputs (components.dae): a co-simulation step's only
+            "rate_inputs": [v.name for v in model.inputs if v.rate_of is not None],
             "indicators_follow_time": bool(model.z.numel()) and bool(ca.depends_on(model.z, model.t)),
             "can_terminate": bool(model.terminate),
             "autonomous": time_invariant(model),
@@ -285,7 +287,8 @@ def cached_fmu(key: str | None) -> BuiltFmu | None:
     return None
 
 
-_FACTS = ("chained_inputs", "indicators_follow_time", "can_terminate", "autonomous", "units")
+_FACTS = ("chained_inputs", "rate_inputs", "indicators_follow_time", "can_terminate", "autonomous",
+          "units")
 
 
 def _facts_whole(facts) -> bool:

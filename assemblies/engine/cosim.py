@@ -33,7 +33,7 @@ from ..experiment import (FixedStepFallback, check_cosim_settings, check_experim
 from ..foreign import check_mode
 from ..inputs import with_inputs
 from ..limits import check_output_values
-from ..masters.extrapolation import derivative_couplings, is_held, rate_inputs
+from ..masters.extrapolation import RATES, derivative_couplings, is_held, rate_inputs
 from ..masters.loops import coupling_groups, describe, is_loop
 from ..result import Result, Table
 from ..value_types import CODES, CONTINUOUS
@@ -54,13 +54,11 @@ EVENT_TOL = 1e-10  # width of the final bracket when an event is moved back [s]
 # step late. Linear extrapolation removes the first, event synchronisation the
 # second, and step doubling keeps the global error of the states near `tol` (1e-5:
 # the tightest scene figure, beam_friction_damper's energy balance to 1e-8 J, needs it;
-# every joined scene then runs in about a second). Quadratic extrapolation (the step
-# mean of the parabola through the last three communication points) rather than linear:
-# at the same error it needs 1.5-3.4x fewer steps (issue 27, benchmarks/cosim_fixed.py
-# --extrapolation 1 / 2): moving_table at tol 1e-3 141 -> 46 ms CPU (error 1.1e-5 both),
-# conveyor at tol 1e-2 436 -> 169 ms (1.2e-5 -> 4.7e-6), two_block_belt at tol 1e-4
-# 249 -> 150 ms (1.5e-5 -> 1.4e-5).
-DEFAULT_SCHEME = {"adaptive": True, "extrapolation": 2, "tol": 1e-5}
+# every joined scene then runs in about a second). Cubic extrapolation, the cubic itself
+# carried into each FMU by its rate inputs (assemblies.masters.extrapolation): a
+# coupling of order 4 between events where holding the quadratic's step mean was of
+# order 2 (issue 27, benchmarks/cosim_fixed.py --extrapolation 2 / 3 and RESULTS.md).
+DEFAULT_SCHEME = {"adaptive": True, "extrapolation": 3, "tol": 1e-5}
 
 # Members the master evaluates itself between the points that need their FMUs (cosim.h
 # eng_cosim_spec.time_function / .linear_map): kinematic sources from time, stateless
@@ -239,7 +237,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     if any(plan.rates):
         none = Variable(-1, 0, 0, 0, 0)
         spec.rates = keep.array(Variable, [Variable(*r[j]) if j < len(r) else none
-                                           for r in plan.rates for j in range(2)])
+                                           for r in plan.rates for j in range(RATES)])
     spec.n_groups = len(groups)
     spec.group_start = keep.array(C.c_int, np.cumsum([0] + [len(g) for g in groups]).tolist())
     spec.group_members = keep.array(C.c_int, [k for g in groups for k in g])

@@ -66,6 +66,7 @@ class PreparedFmu:
     states: list = field(default_factory=list)
     derivatives: list = field(default_factory=list)  # of `states`, in their order
     chained: dict = field(default_factory=dict)    # input the FMU extrapolates -> its derivative input
+    rate_inputs: tuple = ()  # inputs a co-simulation master sets from its extrapolation, none else
     autonomous: bool = False  # ours, with no explicit time (fmus.build.model_facts)
     # Model Exchange: the FMU needs no fmiCompletedIntegratorStep after each step
     completed_step_not_needed: bool = False
@@ -335,6 +336,7 @@ def prepared(component, fmi_version: int = 3) -> PreparedFmu:
     built = fetch_fmu(class_defaults(component), fmi_version=fmi_version)
     fmu = prepared_path(str(built.path))
     fmu.chained = dict(built.facts["chained_inputs"])
+    fmu.rate_inputs = tuple(built.facts["rate_inputs"])
     fmu.autonomous = bool(built.facts.get("autonomous", False))  # unknown: it may move
     fmu.ours = True
     with _lock:

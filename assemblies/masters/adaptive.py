@@ -85,6 +85,7 @@ COAST_STEADY = 0.8  # the next step within this factor of the last: steady (modu
 COAST_KEEP = 0.5  # a rejection shrinking the step by less keeps the run's length
 COAST_DEFECT_GROWTH = 2.0  # coupling defect over this times the estimate's: estimate again
 COAST_GUARDED = 2  # the coupling defect ended the run (module doc)
+ORDER_MAX = 3  # the highest order step doubling takes a coupling to be of (cosim.c says why)
 FIT_STRETCH = 0.25  # the steps of an output interval may grow by a quarter of one in all
 NOISE_SHARE_MIN = 1e-4  # the least share of the FMUs' tolerance taken as noise (module doc)
 

@@ -195,7 +195,7 @@ def member_functions(joined, model, c_code: bool = False) -> dict:
     wanted = {(inst, var) for inst, var in y_names}
     for name, m in members.items():  # every input of every member is read by ode/zc/jump
         for v in m.inputs:
-            if (name, v.name) not in slot:
+            if (name, v.name) not in slot and v.rate_of is None:
                 wanted.add(source(name, v.name)[:2])
     # the outputs of a member of the same level are one function (they share the work,
     # a friction block's acceleration, support force and friction power, and each call
@@ -284,6 +284,9 @@ def member_functions(joined, model, c_code: bool = False) -> dict:
                 continue
             if (inst, v.name) in slot:  # open: the composite's own input
                 rows.append((slot[(inst, v.name)], 1.0))
+                continue
+            if v.rate_of is not None:  # read by a co-simulation step only: 0 (monolithic)
+                rows.append((0, 1.0))
                 continue
             src, var, gain = source(inst, v.name)
             rows.append((slot[(src, var)], gain))

@@ -54,12 +54,12 @@ from ..foreign import FMU, check_mode
 from ..inputs import with_inputs
 from ..result import Result, Table
 from .adaptive import (COAST_DEFECT_GROWTH, COAST_GUARDED, COAST_KEEP, COAST_MAX, COAST_STEADY,
-                       COAST_STEPS, cells,
+                       COAST_STEPS, ORDER_MAX, cells,
                        StepController)
 from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
                      fires_at_start, locate_start_event, probe_step)
-from .extrapolation import (chain_order, derivative_couplings, derivative_inputs, end_value,
-                            is_held, rate_inputs, step_mean, taylor)
+from .extrapolation import (RATES, chain_order, derivative_couplings, derivative_inputs,
+                            end_value, is_held, rate_inputs, step_mean, taylor)
 from .loops import LoopError, coupling_groups, is_loop, solve_loop
 
 
@@ -145,6 +145,8 @@ class _Instance:
             # (s by v, v by a); the flattened component does
             self.chained = derivative_inputs(component)
         self.fmi_version = int(md.fmiVersion[0])
+        self.has_indicators = bool(md.eventIndicators if self.fmi_version == 3
+                                   else md.numberOfEventIndicators)
         self.variables = {v.name: v for v in md.modelVariables}
         # each variable is got and set through its own type's call (value_types); the
         # discrete ones are held over a step, never extrapolated
@@ -356,7 +358,7 @@ class _Master:
                       if (r := rate_inputs(couplings[i].target[1],
                                            instances[couplings[i].target[0]].chained,
                                            coupled[couplings[i].target[0]]))}
-        self.rate_values = {i: [0.0, 0.0] for i in self.rates}
+        self.rate_values = {i: [0.0] * RATES for i in self.rates}
         # the chains an FMU extrapolates itself (s -> v -> a): how far the motion it
         # extrapolated strays from its source's by a step's end bounds the adaptive
         # step (cosim.c chain_defect says why)
@@ -364,9 +366,12 @@ class _Master:
                                                            for n, i in instances.items()})
         self.chain_order = [chain_order(self.derivative, k) for k in range(len(couplings))]
         for k in range(len(couplings)):  # rates at a chain's end: the polynomial's order
-            end = self._chain_end(k)
-            if end != k and end in self.rates:
+            if self._chain_end(k) in self.rates:
                 self.chain_order[k] += extrapolation
+        # rated inputs into FMUs that fire events: judged as chains (cosim.c chain_defect)
+        self.judged_end = {k for k in self.rates
+                           if instances[couplings[k].target[0]].has_indicators
+                           and instances[couplings[k].source[0]].fmi_version >= 3}
         self.defect_tol = math.inf  # the adaptive tolerance (set by the stepper)
         self.defect, self.defect_order = 0.0, 1  # the last step's (chain_defect)
         self.coupling_defect = 0.0  # ... worst coupling off its extrapolation (chain_defect)
@@ -405,7 +410,7 @@ class _Master:
         for i in self.held:
             value = self._get(*self.couplings[i].target)
             points = [p for p in self.history[i] if p[0] < t - 1e-12 * max(1.0, abs(t))]
-            self.history[i] = (points + [(t, value)])[-3:]
+            self.history[i] = (points + [(t, value)])[-(RATES + 1):]
 
     def held_inputs(self) -> dict[int, float]:
         return {i: self._get(*self.couplings[i].target) for i in self.held}
@@ -436,7 +441,8 @@ class _Master:
         target = self.couplings[i].target[0]
         for name, value in zip(self.rates[i], rates):
             self._set(target, name, value)
-        self.rate_values[i] = (rates + [0.0])[:2] if len(self.rates[i]) > 1 else [rates[0], 0.0]
+        # (0 beyond the rates the target takes, as the FMU's chain has none there)
+        self.rate_values[i] = [r if j < len(self.rates[i]) else 0.0 for j, r in enumerate(rates)]
 
     def _set_held(self, i: int, t: float, h: float, t_source: float, now: float) -> None:
         """Set held input `i` for [t, t + h]: the extrapolating polynomial itself where
@@ -459,7 +465,7 @@ class _Master:
         """Set input `i` to its source's value, held: its rates, if any, are 0."""
         self._set(*self.couplings[i].target, value)
         if i in self.rates:
-            self._set_rates(i, [0.0, 0.0])
+            self._set_rates(i, [0.0] * RATES)
 
     def _do_step(self, name: str, t: float, h: float) -> None:
         inst = self.instances[name]
@@ -552,7 +558,7 @@ class _Master:
                 continue
             u = self._get(*self.couplings[k].target)
             self.coupling_defect = max(self.coupling_defect, abs(u - p) / (1.0 + abs(u)))
-            if self.derivative[k] < 0:
+            if self.derivative[k] < 0 and k not in self.judged_end:
                 continue
             ratio = abs(u - p) / (self.defect_tol * (1.0 + abs(u)))
             if ratio > self.defect:
@@ -594,7 +600,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     `step` is the communication step; with ``adaptive=True`` it is the output interval
     and the largest step, and steps are chosen so that the estimated global error of
     the FMUs' states stays near `tol` (absolute, :mod:`assemblies.adaptive`).
-    `tolerance` is the FMUs' own solver tolerance. `extrapolation` (0, 1, 2) is the
+    `tolerance` is the FMUs' own solver tolerance. `extrapolation` (0, 1, 2, 3) is the
     order of the polynomial whose step mean is held on inputs the FMUs hold constant
     (:mod:`assemblies.extrapolation`). Algebraic loops are solved at every
     communication point to `loop_tolerance` in at most `max_loop_iterations` Newton
@@ -772,9 +778,11 @@ class _Stepper:
         self.sample, self.progress = sample, progress
         # global order of the coupling: 1 with a zero-order hold, 2 with a step-mean
         # extrapolation (see assemblies.extrapolation for why not 3 with quadratic), the
-        # extrapolation's + 1 where every held input takes its rates
+        # extrapolation's + 1 where every held input takes its rates, at most ORDER_MAX
+        # (cosim.c says why)
         self.ctrl = StepController(tol, 1 if extrapolation == 0
-                                   else extrapolation + 1 if master.all_rated else 2,
+                                   else min(extrapolation + 1, ORDER_MAX) if master.all_rated
+                                   else 2,
                                    out_times[-1] - start_time, step)
         master.defect_tol = tol
         self.t = start_time

@@ -5,27 +5,29 @@ FMI 3 Co-Simulation has no input-derivative call (FMI 2's
 unless it extrapolates it itself. Ours do so along a *derivative chain* of
 inputs: a flange's ``s`` is extrapolated with ``v`` and ``a``, ``v`` with ``a``
 (Taylor, quadratic and linear), and the end of each chain (a force ``f``, or a
-motion's ``a``) with its *rate inputs* ``f_rate``, ``f_rate2`` (``a_rate``,
-``a_rate2``), which nothing couples and which stay 0 for an importer that never
-sets them. Signals have no chain and stay constant over the step.
+motion's ``a``) with its *rate inputs* ``f_rate``, ``f_rate2``, ``f_rate3``
+(``a_rate`` ...), which nothing couples and which stay 0 for an importer that
+never sets them. Signals have no chain and stay constant over the step.
 
-With extrapolation order p the master fits the polynomial of degree p through a
-held input's last p + 1 values at communication points (interpolating where
-Gauss–Seidel has already stepped the source). Where the target takes the
-input's rates, the master sets the polynomial's value, slope and curvature at
-the step's start (:func:`taylor`) and the FMU runs along the polynomial itself:
-the input is O(h^(p+1)) off within the step, and the coupling is of global
-order p + 1 (two_block_belt, fixed steps: 2.00 with p = 1, 3.00 with p = 2).
-Elsewhere the master holds the polynomial's *mean over the step*: the input's
-integral over the step is then exact to O(h^(p+2)), but its double integral
-(the displacement it causes) stays O(h^3), because a constant cannot carry a
-slope, and the coupling is of order 2 for p = 1 and 2 alike.
+With extrapolation order p (at most 3) the master fits the polynomial of degree
+p through a held input's last p + 1 values at communication points
+(interpolating where Gauss–Seidel has already stepped the source). Where the
+target takes the input's rates, the master sets the polynomial's value and
+derivatives at the step's start (:func:`taylor`) and the FMU runs along the
+polynomial itself: the input is O(h^(p+1)) off within the step, and the
+coupling is of global order p + 1 (two_block_belt, fixed steps: 2.00, 2.99 and
+4.00 with p = 1, 2, 3; tests/integration/test_rate_inputs.py). Elsewhere the
+master holds the polynomial's *mean over the step*: the input's integral over
+the step is then exact to O(h^(p+2)), but its double integral (the displacement
+it causes) stays O(h^3), because a constant cannot carry a slope, and the
+coupling is of order 2 for every p >= 1.
 """
 from __future__ import annotations
 
 from components.dae import flatten
 
-ORDERS = (0, 1, 2)
+ORDERS = (0, 1, 2, 3)
+RATES = 3  # a chain end's rate inputs (components.dae): enough for the cubic of order 3
 
 
 def step_mean(points: list[tuple[float, float]], t: float, h: float, order: int) -> float:
@@ -38,11 +40,15 @@ def step_mean(points: list[tuple[float, float]], t: float, h: float, order: int)
 
 
 def taylor(points: list[tuple[float, float]], t: float, h: float, order: int) -> list[float]:
-    """Value, slope and curvature at `t` of the polynomial through the last ``order + 1``
-    points (0 where its degree is lower): what a target's rate inputs take, so that its
-    Taylor chain runs along the polynomial over the step."""
-    coef = _fit(points, t, h, order) + [0.0, 0.0]
-    return [float(coef[0]), float(coef[1] / h), float(2.0 * coef[2] / (h * h))]
+    """Value and first three derivatives at `t` of the polynomial through the last
+    ``order + 1`` points (0 beyond its degree): what a target's rate inputs take, so
+    that its Taylor chain runs along the polynomial over the step (cosim.c set_held)."""
+    coef = _fit(points, t, h, order)
+    out, scale = [float(coef[0])], 1.0
+    for j in range(RATES):
+        scale *= (j + 1) / h
+        out.append(float(coef[j + 1] * scale) if j + 1 < len(coef) else 0.0)
+    return out
 
 
 def end_value(points: list[tuple[float, float]], h: float, order: int) -> float:
@@ -54,26 +60,21 @@ def end_value(points: list[tuple[float, float]], h: float, order: int) -> float:
 
 def _fit(points, t, h, order) -> list[float]:
     """Coefficients, in units of the step from t, of the polynomial through the last
-    ``order + 1`` points (at most 3): Newton's divided differences expanded about t, the
-    same operations in the same order as the engine's fit_poly (cosim.c), so that the two
-    masters round alike (a solve of the Vandermonde system costs the engine a quarter of
-    its time on two_block_belt; issue 27)."""
+    ``order + 1`` points (at most 4): Newton's divided differences expanded about t by
+    Horner's scheme, the same operations in the same order as the engine's fit_poly
+    (cosim.c), so that the two masters round alike (a solve of the Vandermonde system
+    costs the engine a quarter of its time on two_block_belt; issue 27)."""
     pts = points[-(order + 1):]
-    if len(pts) > 3:
-        raise ValueError(f"extrapolation order {order}: at most 2")
-    v0 = float(pts[0][1])
-    if len(pts) == 1:
-        return [v0]
-    # times in units of the step, from t: the step is [0, 1], which keeps the fit well scaled
-    t0, t1 = (pts[0][0] - t) / h, (pts[1][0] - t) / h
-    v1 = float(pts[1][1])
-    d01 = (v1 - v0) / (t1 - t0)
-    if len(pts) == 2:
-        return [v0 - d01 * t0, d01]
-    t2, v2 = (pts[2][0] - t) / h, float(pts[2][1])
-    d12 = (v2 - v1) / (t2 - t1)
-    d012 = (d12 - d01) / (t2 - t0)
-    return [v0 - d01 * t0 + d012 * t0 * t1, d01 - d012 * (t0 + t1), d012]
+    tau = [(p[0] - t) / h for p in pts]
+    coef = [float(p[1]) for p in pts]
+    m = len(pts)
+    for a in range(1, m):  # coef[b]: the divided difference over points b - a ... b
+        for b in range(m - 1, a - 1, -1):
+            coef[b] = (coef[b] - coef[b - 1]) / (tau[b] - tau[b - a])
+    for a in range(m - 2, -1, -1):  # p = d[a] + (x - tau[a]) p, from the highest down
+        for b in range(a, m - 1):
+            coef[b] -= tau[a] * coef[b + 1]
+    return coef
 
 
 def derivative_inputs(component) -> dict[str, str]:
@@ -89,7 +90,7 @@ def rate_inputs(name: str, chained: dict, set_by_coupling) -> list[str]:
     f_rate2): the master sets them from the polynomial it extrapolates `name` with.
     Empty where the chain is coupled (s -> v -> a) or there is none."""
     out, d = [], chained.get(name)
-    while d is not None and d not in set_by_coupling and len(out) < 2:
+    while d is not None and d not in set_by_coupling and len(out) < RATES:
         out.append(d)
         d = chained.get(d)
     return out

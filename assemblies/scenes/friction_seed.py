@@ -53,17 +53,20 @@ def _coupling_error(result: Result, drive: tuple[float, float, float] | None) ->
     """How far co-simulating a sine drive may move the block's state [m, m/s].
 
     `drive` = (U, omega, w0): the drive's amplitude and angular frequency, the block's
-    sqrt(k / m). The master extrapolates the drive's motion over each communication
-    step with a Taylor polynomial of order p (its ``extrapolation``), which misses a
-    sine of amplitude U by at most U (omega tau)^(p+1) / (p+1)! after tau; the spring
-    turns that into a force error k times it, a velocity impulse of at most
-    w0^2 U omega^(p+1) h^(p+2) / (p+2)! over a step h. A Coulomb oscillator carries an
-    impulse dv on as a change of at most dv in its speed and dv / w0 in its position
-    (its motion between events is a rotation in (x, v / w0), and a turning point,
-    where v = 0, moves x to second order only), so summed over the run, without
-    cancellation, the state errs by at most w0^2 U omega^(p+1) h_max^(p+1) t_end /
-    (p+2)! x max(1, 1 / w0), h_max the longest step the run took (fixed: the step).
-    Zero for a run that is not co-simulated."""
+    sqrt(k / m). Over a communication step the block's FMU runs the drive's motion
+    from its s, v and a at the step's start, with a along the polynomial of degree
+    d <= p (the ``extrapolation``; 0 where a step holds it) through a's last values at
+    communication points (its rate inputs). That polynomial misses a = -U omega^2
+    sin(omega t) by at most U omega^(d+3) / (d+1)! x tau (tau + h) ... (tau + d h)
+    <= U omega^(d+3) tau h^d after tau <= h (points at most h = h_max apart), so the
+    spring end by U omega^(d+3) h^(d+3) / 6, and the spring gives a velocity impulse
+    of at most w0^2 U omega^(d+3) h^(d+4) / 24 over the step; with omega h <= 1 the
+    worst degree is 0. A Coulomb oscillator carries an impulse dv on as a change of at
+    most dv in its speed and dv / w0 in its position (its motion between events is a
+    rotation in (x, v / w0), and a turning point, where v = 0, moves x to second order
+    only), so summed over the run (the steps' lengths add up to t_end), without
+    cancellation, the state errs by at most w0^2 U omega^3 h^3 max(1, (omega h)^p)
+    t_end / 24 x max(1, 1 / w0). Zero for a run that is not co-simulated."""
     s = result.settings
     if drive is None or s.get("scheme") not in ("jacobi", "gauss-seidel"):
         return 0.0
@@ -71,7 +74,7 @@ def _coupling_error(result: Result, drive: tuple[float, float, float] | None) ->
     p = int(s.get("extrapolation") or 0)
     h = s.get("h_max") or s["step"]
     t_end = float(result["time"][-1] - result["time"][0])
-    return (w0**2 * U * omega ** (p + 1) * h ** (p + 1) * t_end / math.factorial(p + 2)
+    return (w0**2 * U * (omega * h) ** 3 * max(1.0, (omega * h) ** p) * t_end / 24
             * max(1.0, 1 / w0))
 
 

@@ -85,8 +85,9 @@ def test_adaptive_rolls_back_events_of_rejected_steps():
 
 
 def test_options_are_checked_and_reach_run_scene():
-    with pytest.raises(AssemblyError, match="extrapolation must be 0 .constant., 1 .linear. or 2"):
-        run_scene("moving_table", stop_time=0.1, extrapolation=3)
+    with pytest.raises(AssemblyError, match="extrapolation must be 0 .constant., 1 .linear., "
+                                            "2 .quadratic. or 3 .cubic., not 4"):
+        run_scene("moving_table", stop_time=0.1, extrapolation=4)
     with pytest.raises(AssemblyError, match="adaptive tolerance tol must be in"):
         run_scene("moving_table", stop_time=0.1, adaptive=2.0)
     res = run_scene("moving_table", stop_time=PERIOD, adaptive=1e-3, extrapolation=1)
@@ -96,14 +97,15 @@ def test_options_are_checked_and_reach_run_scene():
 
 @pytest.mark.parametrize("name, periods", SWEEP)
 def test_the_default_extrapolation_meets_the_tolerance_with_fewer_do_steps(name, periods):
-    # issue 27: the compiled master's default extrapolates quadratically, and the block
-    # takes the table's acceleration as that parabola itself (its support.a_rate and
-    # a_rate2 inputs), a coupling of global order 3 against linear's 2 (module doc of
-    # assemblies.masters.extrapolation). Against the scipy reference, at each tolerance
-    # the default must stay within it and cost well under linear's doSteps.
-    # Measured (error / tol, doSteps ratio): moving_table 0.26, 0.34 at 1e-3 and 0.23,
-    # 0.12 at 1e-5; conveyor 0.30, 0.29 and 0.16, 0.13 (was, held as the step mean, the
-    # same order as linear: error 0.61x and 0.43x linear's on conveyor).
+    # issue 27: the compiled master's default extrapolates cubically, and the block
+    # takes the table's acceleration as that cubic itself (its support.a_rate, a_rate2
+    # and a_rate3 inputs), a coupling of order 4 between events against linear's 2 (module doc
+    # of assemblies.masters.extrapolation). Against the scipy reference, at each
+    # tolerance the default must stay within it and cost well under linear's doSteps.
+    # Measured (error / tol, doSteps ratio): moving_table 0.15, 0.27 at 1e-3 and 0.23,
+    # 0.059 at 1e-5; conveyor 0.17, 0.24 and 0.16, 0.061 (held as the step mean of the
+    # quadratic, the same order as linear: error 0.61x and 0.43x linear's on conveyor,
+    # doSteps 0.41x and 0.16x).
     from assemblies.engine.cosim import DEFAULT_SCHEME, cosimulate as engine_cosimulate
     stop = periods * PERIOD
     out = stop / 24

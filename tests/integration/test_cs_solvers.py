@@ -68,7 +68,9 @@ def _cvodes_reference(component, speed, stop):
     fm = flatten(component)
     x0, q0, _, p0 = fm.start_vectors()
     drive = {"flange_a.s": speed * fm.t, "flange_a.v": speed, "flange_a.a": 0}
-    u = ca.vertcat(*[drive[v.name] for v in fm.inputs])
+    # (the rate inputs only extrapolate a within a co-simulation step: none here)
+    u = ca.vertcat(*[drive.get(v.name, 0) if v.rate_of is not None else drive[v.name]
+                     for v in fm.inputs])
     ode = ca.substitute(fm.xdot, ca.vertcat(fm.u, fm.q, fm.p), ca.vertcat(u, ca.DM(q0), ca.DM(p0)))
     F = ca.integrator("F", "cvodes", {"x": fm.x, "t": fm.t, "ode": ode}, 0.0, [stop],
                       {"abstol": 1e-13, "reltol": 1e-13, "max_num_steps": 10**7})

@@ -1,6 +1,6 @@
 """A flange's rate inputs: the FMU runs its force (or a motion's acceleration) along
 them over a co-simulation step, and the masters set them from the polynomial they
-extrapolate a held input with (issue 27: a coupling of higher order).
+extrapolate a held input with (issue 27: a coupling of order p + 1).
 """
 import math
 
@@ -18,13 +18,14 @@ from fmus.build import build_fmu
 
 
 def test_a_free_mass_follows_a_force_ramp_within_one_step(tmp_path):
-    # m s'' = f + r t + q t^2 / 2 over one doStep: s = s0 + v0 t + (f t^2/2 + r t^3/6
-    # + q t^4/24) / m, the closed form, to the FMU's own solver tolerance
-    m, f, r, q, h = 2.0, 3.0, -4.0, 5.0, 0.7
+    # m s'' = f + r t + q t^2 / 2 + j t^3 / 6 over one doStep: s = s0 + v0 t + (f t^2/2
+    # + r t^3/6 + q t^4/24 + j t^5/120) / m, the closed form, to the FMU's solver tolerance
+    m, f, r, q, j, h = 2.0, 3.0, -4.0, 5.0, -6.0, 0.7
     path = build_fmu(Mass(m=m), tmp_path / "mass.fmu", fmi_version=2)
     md = read_model_description(str(path))
     by_name = {v.name: v for v in md.modelVariables}
-    for name, unit in (("flange_a.f_rate", "N/s"), ("flange_a.f_rate2", "N/s2")):
+    rates = ("flange_a.f_rate", "flange_a.f_rate2", "flange_a.f_rate3")
+    for name, unit in zip(rates, ("N/s", "N/s2", "N/s3")):
         assert by_name[name].causality == "input" and by_name[name].unit == unit
         assert float(by_name[name].start) == 0.0  # an importer that never sets it holds f
     slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(path)),
@@ -33,15 +34,16 @@ def test_a_free_mass_follows_a_force_ramp_within_one_step(tmp_path):
     slave.setupExperiment(tolerance=1e-10, startTime=0.0)
     slave.enterInitializationMode()
     slave.exitInitializationMode()
-    vr = {n: by_name[n].valueReference for n in ("flange_a.f", "flange_a.f_rate",
-                                                  "flange_a.f_rate2", "s", "v")}
-    slave.setReal([vr["flange_a.f"], vr["flange_a.f_rate"], vr["flange_a.f_rate2"]], [f, r, q])
+    vr = {n: by_name[n].valueReference for n in ("flange_a.f", *rates, "s", "v")}
+    slave.setReal([vr[n] for n in ("flange_a.f", *rates)], [f, r, q, j])
     slave.doStep(0.0, h)
     s, v = slave.getReal([vr["s"], vr["v"]])
     slave.terminate()
     slave.freeInstance()
-    assert math.isclose(s, (f * h**2 / 2 + r * h**3 / 6 + q * h**4 / 24) / m, abs_tol=1e-9)
-    assert math.isclose(v, (f * h + r * h**2 / 2 + q * h**3 / 6) / m, abs_tol=1e-9)
+    assert math.isclose(s, (f * h**2 / 2 + r * h**3 / 6 + q * h**4 / 24 + j * h**5 / 120) / m,
+                        abs_tol=1e-9)
+    assert math.isclose(v, (f * h + r * h**2 / 2 + q * h**3 / 6 + j * h**4 / 24) / m,
+                        abs_tol=1e-9)
 
 
 def _belt(stop):
@@ -54,21 +56,22 @@ def _belt(stop):
 def test_force_rates_raise_the_coupling_to_the_extrapolations_order_plus_one():
     # two_block_belt's blocks take the springs' forces, held inputs with rates: the
     # polynomial of degree p itself goes into the step, so the coupling is of order
-    # p + 1 (3 with the default quadratic), against the composite at 1e-12.
-    # Measured at h = 0.1 / 4 ... / 32 over 30 s (block positions):
-    # p = 1: 1.28e-3 ... 2.01e-5, orders 2.00; p = 2: 3.42e-5 ... 6.80e-8, orders 2.99,
-    # 2.98, 3.00. Held as the step mean (before), p = 2 gave 7.8e-4 ... 7.6e-5 with
-    # orders 0.7-1.8 (the friction events' timing dominated).
+    # p + 1, against the composite at 1e-12. Measured at h = 0.1 / 2, / 4, / 8 over 30 s
+    # (block positions): p = 1: 5.12e-3, 1.28e-3, 3.20e-4 (orders 2.00, 2.00); p = 2:
+    # 2.73e-4, 3.42e-5, 4.30e-6 (2.99, 2.99); p = 3 (the default): 2.46e-5, 1.54e-6,
+    # 1.06e-7 (4.00, 3.86; at h = 0.1 / 16 1.04e-8, 3.35, the friction events' location
+    # taking over). Held as the step mean (before), p = 2 gave 7.8e-4 ... 7.6e-5 at
+    # h = 0.1 / 4 ... / 32, orders 0.7-1.8.
     sc, asm, ref = _belt(30.0)
-    for extrapolation, order in ((1, 2), (2, 3)):
+    for extrapolation in (1, 2, 3):
         errors = []
-        for n in (8, 16, 32):
+        for n in (2, 4, 8):
             res = engine_cosimulate(asm, stop_time=30.0, step=0.1 / n, tolerance=1e-12,
                                     record=sc.record, extrapolation=extrapolation)
             errors.append(max(float(np.max(np.abs(res[c][::n] - ref[c])))
                               for c in ("block1.s", "block2.s")))
         orders = [math.log2(a / b) for a, b in zip(errors, errors[1:])]
-        assert all(abs(o - order) < 0.3 for o in orders), (extrapolation, errors, orders)
+        assert all(abs(o - extrapolation - 1) < 0.3 for o in orders), (extrapolation, errors)
     assert errors[-1] < 1e-6, errors
 
 
@@ -76,9 +79,10 @@ def test_both_masters_set_the_same_rates():
     # the fmpy reference master mirrors the compiled one's rates (set_held, set_raw,
     # the chains' end values): the same steps and the same motion, fixed and adaptive
     sc, asm, _ = _belt(3.0)
-    for options in (dict(step=0.05), dict(step=0.1, adaptive=True, tol=1e-4)):
-        runs = [f(asm, stop_time=3.0, tolerance=1e-10, record=sc.record, extrapolation=2,
-                  event_sync=True, **options)
+    for options in (dict(step=0.05, extrapolation=2), dict(step=0.05, extrapolation=3),
+                    dict(step=0.1, adaptive=True, tol=1e-4, extrapolation=3)):
+        runs = [f(asm, stop_time=3.0, tolerance=1e-10, record=sc.record, event_sync=True,
+                  **options)
                 for f in (engine_cosimulate, reference_cosimulate)]
         assert runs[0].settings["steps"] == runs[1].settings["steps"], options
         for c in ("block1.s", "block2.s", "block1.v", "block2.v"):

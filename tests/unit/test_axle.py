@@ -58,6 +58,8 @@ def evaluate(body, x, u, q=()):
     model = flatten(body)
     f = model.functions()
     _, _, _, p = model.start_vectors()
+    given = iter(u)  # 0 for the rate inputs, which only a co-simulation step reads
+    u = [0.0 if v.rate_of is not None else next(given) for v in model.inputs]
     xdot = np.array(f["ode"](0.0, x, list(q), u, p)).ravel()
     y = np.array(f["out"](0.0, x, list(q), u, p)).ravel()
     return xdot, dict(zip([v.name for v in model.outputs], y))

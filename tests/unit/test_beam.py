@@ -207,7 +207,8 @@ def test_bad_values_give_one_line_errors(values, words):
 
 def test_constant_force_pushes_what_it_is_connected_to():
     model = flatten(ConstantForce(F=2.5))
-    y = np.array(model.functions()["out"](0.0, [], [], [0.1, 0.2, 0.3], [2.5])).ravel()
+    # (s, v, a of the flange, then a's rate inputs, which no equation reads)
+    y = np.array(model.functions()["out"](0.0, [], [], [0.1, 0.2, 0.3, 0, 0, 0], [2.5])).ravel()
     assert [v.name for v in model.outputs] == ["flange.f"] and list(y) == [-2.5]
 
 

@@ -42,6 +42,9 @@
 
 enum { ENG_JACOBI = 0, ENG_GAUSS_SEIDEL = 1 };
 
+/* rate inputs per coupling (eng_cosim_spec.rates): enough for the cubic of extrapolation 3 */
+#define ENG_RATES 3
+
 typedef struct {
     int n_instances;
     const eng_instance_spec *instances;
@@ -52,10 +55,10 @@ typedef struct {
     const int *derivative;          /* per coupling: the coupling that sets its target's
                                        derivative input (the FMU extrapolates the input
                                        along that chain over a step), or -1 */
-    const eng_variable *rates;      /* per held coupling, two: its target's first and second
-                                       rate inputs (a force flange's f_rate, f_rate2), which
-                                       carry the extrapolating polynomial into the step;
-                                       instance -1 where it has none. NULL: none at all */
+    const eng_variable *rates;      /* per coupling, ENG_RATES: its target's rate inputs (a
+                                       force flange's f_rate, f_rate2, f_rate3), which carry
+                                       a held input's extrapolating polynomial into the
+                                       step; instance -1 where it has none. NULL: none */
     int n_groups;                   /* coupling groups in dependency order (sources first) */
     const int *group_start;         /* n_groups + 1 offsets into group_members */
     const int *group_members;       /* coupling indices */
@@ -146,6 +149,9 @@ typedef struct eng_cosim eng_cosim;
 eng_cosim *eng_cosim_create(const eng_cosim_spec *spec);
 int eng_cosim_enter_initialization(eng_cosim *m, double start_time);
 int eng_cosim_exit_initialization(eng_cosim *m);
+/* A member's input was set from outside (the assembly FMU's own input): the next
+   eng_cosim_advance starts from couplings made consistent with it. */
+void eng_cosim_inputs_changed(eng_cosim *m);
 /* Steps until `target`, or until a member ends the simulation (eng_cosim_terminated). */
 int eng_cosim_advance(eng_cosim *m, double target);
 int eng_cosim_failed(const eng_cosim *m);

@@ -256,7 +256,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     g->tolerance = bounded(&r, "tolerance", 1e-14, 0.5);
     g->step = bounded(&r, "communication step", 1e-300, 1e300);
     g->scheme = (int)integer(&r, ENG_JACOBI, ENG_GAUSS_SEIDEL);
-    g->extrapolation = (int)integer(&r, 0, 2);
+    g->extrapolation = (int)integer(&r, 0, 3);
     g->adaptive = (int)integer(&r, 0, 1);
     g->tol = bounded(&r, "adaptive tolerance tol", 1e-300, 0.5);
     g->loop_tolerance = bounded(&r, "loop tolerance", 1e-300, 1e300);
@@ -297,7 +297,7 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
     cfg->couplings = (eng_coupling *)table(&r, (size_t)n, sizeof *cfg->couplings);
     cfg->held = (int *)table(&r, (size_t)n, sizeof(int));
     cfg->derivative = (int *)table(&r, (size_t)n, sizeof(int));
-    cfg->rates = (eng_variable *)table(&r, 2 * (size_t)n, sizeof(eng_variable));
+    cfg->rates = (eng_variable *)table(&r, ENG_RATES * (size_t)n, sizeof(eng_variable));
     g->couplings = cfg->couplings;
     g->held = cfg->held;
     g->derivative = cfg->derivative;
@@ -309,10 +309,10 @@ int asm_config_read(asm_config *cfg, const char *resources_dir, char *err, size_
         cfg->couplings[k].gain = number(&r);
         cfg->held[k] = (int)integer(&r, 0, 1);
         cfg->derivative[k] = (int)integer(&r, -1, n - 1);
-        rated = (int)integer(&r, 0, 2); /* its target's rate inputs (then instance -1) */
-        for (j = 0; j < 2 && cfg->rates; j++) {
-            if (j < rated) variable(&r, &cfg->rates[2 * k + j], g->n_instances);
-            else cfg->rates[2 * k + j].instance = -1;
+        rated = (int)integer(&r, 0, ENG_RATES); /* its target's rate inputs (then -1) */
+        for (j = 0; j < ENG_RATES && cfg->rates; j++) {
+            if (j < rated) variable(&r, &cfg->rates[ENG_RATES * k + j], g->n_instances);
+            else cfg->rates[ENG_RATES * k + j].instance = -1;
         }
     }
 

@@ -47,7 +47,7 @@ typedef struct {
     eng_instance_spec *instances;
     char **unzip_dirs;
     eng_coupling *couplings;
-    eng_variable *rates;  /* two per coupling (eng_cosim_spec.rates) */
+    eng_variable *rates;  /* ENG_RATES per coupling (eng_cosim_spec.rates) */
     int *held, *derivative, *group_start, *group_members, *group_is_loop, *sweep_order;
     eng_variable *states;
     int *loop_first, *loop_count; /* ASM_ME: the loop groups as me_spec's loops */

@@ -390,6 +390,7 @@ static mf_status access(mf_instance *A, const char *fn, const uint32_t vr[], siz
             rc = eng_set_value(member, &p->member, v);
             /* the integrator must not carry a switched mode across the new value */
             if (rc == FMU_OK && A->me && A->phase == STEPPING) eng_me_inputs_changed(A->me);
+            if (rc == FMU_OK && A->cosim && A->phase == STEPPING) eng_cosim_inputs_changed(A->cosim);
         } else {
             rc = eng_get_value(member, &p->member, &v);
             if (rc == FMU_OK) {
