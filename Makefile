@@ -46,7 +46,8 @@ ASAN_TESTS := tests/integration/test_fmu_api.py tests/integration/test_fmu_steps
 	tests/integration/test_me_foreign_models.py tests/integration/test_engine_me_loops.py \
 	tests/integration/test_me_time_functions.py tests/integration/test_cosim_input_jump.py \
 	tests/integration/test_cosim_coast.py tests/integration/test_cosim_evaluated.py \
-	tests/integration/test_me_local_events.py tests/integration/test_me_taken_members.py
+	tests/integration/test_me_local_events.py tests/integration/test_me_taken_members.py \
+	tests/integration/test_rate_inputs.py
 SANITIZED = MECHFMU_SANITIZE=1 \
 	LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libstdc++.so)" \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(SANITIZER_LOGS)/ubsan
