@@ -142,8 +142,8 @@ struct cosim {
     int *moving;              /* per instance, while groups are checked: a derivative is not 0 */
     int *which;               /* instances whose event is being located */
     int hold_raw;             /* this step holds the sources' values (no extrapolation) */
-    int all_rated;            /* every held input of a stepped member takes its rates: the
-                                 coupling's order is the extrapolation's + 1 */
+    int all_rated;            /* every held input takes its rates: the coupling's order is
+                                 the extrapolation's + 1 (ORDER_MAX) */
     int rejected_last;        /* the step controller's last step was rejected */
     int coast;                /* unjudged steps of h_coast left before the next estimate */
     double h_coast;           /* their length: the half step the estimate found good */
@@ -410,13 +410,22 @@ static int set_held(cosim *c, int k, double t, double h, double t_source, double
     return set_rates(c, k, r, rates, t);
 }
 
-/* Sets input k to its source's value, held: its rates, if any, are 0. */
-static int set_raw(cosim *c, int k, double value, double t)
+/* Held input k's rates back to 0 (the input held constant), where any is not. */
+static int clear_rates(cosim *c, int k, double t)
 {
     static const double none[ENG_RATES] = {0.0};
     const eng_variable *r = c->cfg->held[k] ? rate_inputs(c, k) : NULL;
-    if (set_input(c, k, value, t)) return -1;
-    return r ? set_rates(c, k, r, none, t) : 0;
+    int j;
+    if (!r) return 0;
+    for (j = 0; j < ENG_RATES; j++)
+        if (c->rate_v[ENG_RATES * k + j] != 0.0) return set_rates(c, k, r, none, t);
+    return 0;
+}
+
+/* Sets input k to its source's value, held over the step. */
+static int set_raw(cosim *c, int k, double value, double t)
+{
+    return set_input(c, k, value, t) ? -1 : clear_rates(c, k, t);
 }
 
 /* ---------------------------------------------------------------------------- */
@@ -697,7 +706,8 @@ static int step(cosim *c, double t, double h)
             double now;
             if (!g->held[k]) continue;
             now = c->hist_v[k * HISTORY + c->hist_n[k] - 1];
-            if (extrapolate ? set_held(c, k, t, h, t, now) : set_raw(c, k, c->u[k], t)) return -1;
+            /* (held raw, the input stands where consistent() set it) */
+            if (extrapolate ? set_held(c, k, t, h, t, now) : clear_rates(c, k, t)) return -1;
         }
         for (i = 0; i < g->n_instances; i++)
             if (do_step(c, i, t, h)) return -1;
@@ -1327,7 +1337,8 @@ static void start_stepping(cosim *c, double t0, double horizon)
     c->ctl.tol = g->tol;
     c->ctl.horizon = horizon;
     c->ctl.h_max = g->step;
-    c->ctl.order = g->extrapolation == 0 ? 1 : c->all_rated ? (int)fmin(g->extrapolation + 1, ORDER_MAX) : 2;
+    c->ctl.order = g->extrapolation == 0 ? 1
+                   : c->all_rated ? (int)fmin(g->extrapolation + 1, ORDER_MAX) : 2;
     c->h = g->adaptive ? g->step / 4 : g->step;
     c->coast = 0;
     c->coast_run = COAST_STEPS;
