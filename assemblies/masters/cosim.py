@@ -546,6 +546,11 @@ class _Master:
             k = self.derivative[k]
         return False
 
+    def _target_had_event(self, k: int) -> bool:
+        """Whether coupling `k`'s target FMU had an event in the step just taken."""
+        inst = self.instances[self.couplings[k].target[0]]
+        return inst.event_at_start or math.isfinite(inst.event_in_step)
+
     def _chain_defect(self, predicted: dict[int, float]) -> None:
         """The worst chained input's defect at the step's end over its allowance
         (defect_tol relative to the value), and that chain's order; and the coupling
@@ -558,7 +563,8 @@ class _Master:
                 continue
             u = self._get(*self.couplings[k].target)
             self.coupling_defect = max(self.coupling_defect, abs(u - p) / (1.0 + abs(u)))
-            if self.derivative[k] < 0 and k not in self.judged_end:
+            if self.derivative[k] < 0 and not (k in self.judged_end
+                                               and self._target_had_event(k)):
                 continue
             ratio = abs(u - p) / (self.defect_tol * (1.0 + abs(u)))
             if ratio > self.defect:

@@ -128,15 +128,16 @@ def test_the_default_cosim_finds_every_short_slip_with_a_long_output_interval(ma
     error = np.abs(np.array([t for t, _ in found]) - [t for t, _ in exact])
     # break-away: the block runs the table's acceleration along its polynomial (the rate
     # inputs) and lets go where that crosses mu_s g; the master keeps the polynomial
-    # within tol (1 + |a|) of the table's a at every step's end (a judged chain end), so
-    # the crossing is off by at most that over the rate a crosses at, U omega^3 cos(omega
-    # t_b) = 0.0447: 4.5e-4 (measured 3.1e-5; held over a step and moved back by
-    # bisection, it was 1e-9 off)
+    # within tol (1 + |a|) of the table's a at the end of a step in which the block had
+    # an event (a judged chain end), so the crossing is off by at most that over the
+    # rate a crosses at, U omega^3 cos(omega t_b) = 0.0447: 4.5e-4 (measured 2.4e-4;
+    # held over a step and moved back by bisection, it was 1e-9 off)
     p, tol = SHORT_SLIP, DEFAULT_COSIM["tol"]
     t_b = math.asin(p["mu_s"] * p["g"] / (p["U"] * p["omega"] ** 2)) / p["omega"]
     crossing_rate = p["U"] * p["omega"] ** 3 * math.cos(p["omega"] * t_b)
     assert np.all(error[0::2] < tol * (1 + p["mu_s"] * p["g"]) / crossing_rate), error
     # sticking again: the FMU locates it in its step on the extrapolated table motion;
     # the slip's velocity error (within tol = 1e-5) over the relative deceleration at
-    # the stick, |a_table| - mu_k g = 0.025, makes it up to 40 tol late (measured 1.4e-5)
-    assert np.all(error[1::2] < 4e-5), error
+    # the stick, |a_table| - mu_k g = 0.025, makes it up to 40 tol late (measured 9.9e-5;
+    # 1.4e-5 with the acceleration held at its step mean, whose steps were shorter)
+    assert np.all(error[1::2] < tol / 0.025), error
