@@ -234,8 +234,9 @@ def _fmi2(model, identifier, token, table, structure, head, source_files=()) -> 
            # fmi2CompletedIntegratorStep does nothing here: events come from the indicators
            "  <ModelExchange " + xml_attributes(**common, completedIntegratorStepNotNeeded="true")
            + (f">{sources}ModelExchange>" if sources else "/>"),
-           # inputs are extrapolated inside the step from the flange's own velocity and
-           # acceleration inputs, not from fmi2SetRealInputDerivatives
+           # inputs are extrapolated inside the step from the flange's own velocity,
+           # acceleration and rate inputs (components.dae), not from
+           # fmi2SetRealInputDerivatives
            "  <CoSimulation " + xml_attributes(**common, canHandleVariableCommunicationStepSize="true",
                                        canInterpolateInputs="false")
            + (f">{sources}CoSimulation>" if sources else "/>"),
