@@ -461,11 +461,15 @@ class _Master:
         self._set(*target, value)
         self._set_rates(i, rates)
 
-    def _set_raw(self, i: int, value: float) -> None:
-        """Set input `i` to its source's value, held: its rates, if any, are 0."""
-        self._set(*self.couplings[i].target, value)
-        if i in self.rates:
+    def _clear_rates(self, i: int) -> None:
+        """Held input `i`'s rates back to 0 (the input held constant), where any is not."""
+        if i in self.rates and any(self.rate_values[i]):
             self._set_rates(i, [0.0] * RATES)
+
+    def _set_raw(self, i: int, value: float) -> None:
+        """Set input `i` to its source's value, held over the step."""
+        self._set(*self.couplings[i].target, value)
+        self._clear_rates(i)
 
     def _do_step(self, name: str, t: float, h: float) -> None:
         inst = self.instances[name]
@@ -484,8 +488,8 @@ class _Master:
             for i in self.held:
                 if extrapolate:
                     self._set_held(i, t, h, t, self.history[i][-1][1])
-                else:
-                    self._set_raw(i, self._get(*self.couplings[i].target))
+                else:  # (held raw, the input stands where consistent() set it)
+                    self._clear_rates(i)
             for name in self.instances:
                 self._do_step(name, t, h)
         else:
