@@ -35,15 +35,15 @@ class Variable:
     description: str
     start: float = 0.0
     derivative_input: int | None = None  # for inputs: index of the input that is its time derivative
-    rate_of: int | None = None  # a flow input's rate: index of the input it extrapolates (no equation reads it)
+    rate_of: int | None = None  # a rate input: index of the chain's end it extrapolates (no equation reads it)
     nominal: float = 1.0
 
 
 def _rate_unit(unit: str, order: int) -> str:
     """N -> N/s, N/s2, N/s3; m/s2 -> m/s3, m/s4, m/s5."""
-    base, _, per = unit.partition("/s")
-    power = (int(per) if per else 1) if _ else 0
-    return f"{base}/s{power + order if power + order > 1 else ''}"
+    base, per_second, power = unit.partition("/s")
+    seconds = (int(power) if power else 1) if per_second else 0
+    return f"{base}/s{seconds + order if seconds + order > 1 else ''}"
 
 
 @dataclass
