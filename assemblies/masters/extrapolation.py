@@ -96,12 +96,14 @@ def rate_inputs(name: str, chained: dict, set_by_coupling) -> list[str]:
     return out
 
 
-def is_held(name: str, chained: dict, is_int: bool, set_by_coupling=()) -> bool:
-    """Does the FMU hold input `name` constant over a step, with the master choosing the
-    constant? Not an input it extrapolates along a chain (`chained`: derivative_inputs),
-    nor an integer. The end of a chain (a) is held: its step mean keeps the chain's
-    velocity exact to O(h^3) (setting it to the source's value at the step's start, the
-    plain Taylor chain, was measured 15x as many steps on the short-slip fixture)."""
+def is_held(name: str, chained: dict, is_int: bool, set_by_coupling) -> bool:
+    """Does the master choose how input `name` moves over a step? Not an integer, nor an
+    input whose chain (`chained`: derivative_inputs) another coupling sets (s by v and
+    a); the end of a chain is, through its rate inputs (:func:`rate_inputs`, the
+    couplings' targets in `set_by_coupling`) where it has them, and an input with no
+    chain through the constant it holds. (Setting a chain's end to the source's value at
+    the step's start, the plain Taylor chain, was measured 15x as many steps on the
+    short-slip fixture as holding its step mean.)"""
     if is_int:
         return False
     return name not in chained or bool(rate_inputs(name, chained, set_by_coupling))

@@ -1204,13 +1204,21 @@ static int create(cosim *c, const eng_cosim_spec *g)
         || !c->judged_end
         || eng_loop_alloc(&c->loop, largest_loop))
         return fail(c, "out of memory");
+    c->all_rated = 1;
     for (k = 0; k < g->n_couplings; k++) {
-        int d = g->derivative[k];
+        int d = g->derivative[k], end = k;
         c->chain_order[k] = 1;
         while (d >= 0 && c->chain_order[k] <= g->n_couplings) {
             c->chain_order[k]++;
+            end = d;
             d = g->derivative[d];
         }
+        /* rates at a chain's end extrapolate it to the polynomial's order */
+        if (rate_inputs(c, end)) c->chain_order[k] += g->extrapolation;
+        if (g->held[k] && !rate_inputs(c, k)) c->all_rated = 0;
+        c->judged_end[k] = end == k && rate_inputs(c, k)
+                           && g->instances[g->couplings[k].target.instance].n_event_indicators > 0
+                           && g->instances[g->couplings[k].source.instance].fmi_version >= 3;
     }
     for (i = 0; i < 3; i++)
         if (snap_alloc(c, &c->snap[i])) return fail(c, "out of memory");
@@ -1219,17 +1227,6 @@ static int create(cosim *c, const eng_cosim_spec *g)
             for (k = g->group_start[grp]; k < g->group_start[grp + 1]; k++)
                 c->in_loop[g->group_members[k]] = 1;
     if (plan_evaluated(c)) return -1;
-    c->all_rated = 1;
-    for (k = 0; k < g->n_couplings; k++) {
-        int end = k, links = 0;
-        if (g->held[k] && !rate_inputs(c, k)) c->all_rated = 0;
-        while (g->derivative[end] >= 0 && links++ <= g->n_couplings) end = g->derivative[end];
-        /* rates at a chain's end extrapolate it to the polynomial's order */
-        if (rate_inputs(c, end)) c->chain_order[k] += g->extrapolation;
-        c->judged_end[k] = end == k && rate_inputs(c, k)
-                           && g->instances[g->couplings[k].target.instance].n_event_indicators > 0
-                           && g->instances[g->couplings[k].source.instance].fmi_version >= 3;
-    }
     for (i = 0; i < g->n_instances; i++) {
         instance *in = &c->inst[i];
         char err[512];
@@ -1833,9 +1830,12 @@ int eng_cosim_advance(eng_cosim *m, double target)
            jump would run the target along it; a judged one shrank the step to nothing) */
         int k;
         m->inputs_changed = 0;
-        for (k = 0; k < c->cfg->n_couplings; k++) c->settle_u[k] = c->u[k];
+        /* (while settling goes on, settle_u holds where it began: the settled end
+           compares against that and restarts a history that jumped, this jump too) */
+        if (!c->unsettled)
+            for (k = 0; k < c->cfg->n_couplings; k++) c->settle_u[k] = c->u[k];
         if (consistent(c, c->t)) return m->stats.status = ENG_FAILED;
-        restart_moved_history(c);
+        if (!c->unsettled) restart_moved_history(c);
     }
     while (!c->terminated) {
         if (c->t < target - eps_t) {
