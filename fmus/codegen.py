@@ -111,6 +111,18 @@ def constant_derivatives(model: FlatModel) -> bool:
             and not ca.depends_on(model.xdot, moving))
 
 
+def inputs_read(model: FlatModel) -> list[bool]:
+    """For each input, whether any model function reads it. Rate inputs (components/dae.py
+    rate_of) are read by no equation: they only carry their input along its Taylor chain,
+    and Co-Simulation's inputs_at need not extrapolate them for their own sake."""
+    read_by = ca.vertcat(model.xdot, model.y, model.z, model.jump_x, model.jump_q, model.g)
+    if model.u.numel() == 0:
+        return []
+    # structural: a comparison (if_else, sign) counts as reading its operand
+    columns = ca.jacobian_sparsity(read_by, model.u).colind()
+    return [columns[i + 1] > columns[i] for i in range(model.u.numel())]
+
+
 def directional_jacobian(model: FlatModel) -> ca.Function:
     """``mf_dd``: the Jacobian of [xdot; computed outputs] w.r.t. [x; u], its structural
     nonzeros only (the runtime scatters them by ``mf_dd_sparsity_out`` into a dense
@@ -162,6 +174,8 @@ def generate_c(model: FlatModel, model_name: str, token: str) -> str:
     lines.append("};")
     derivs = [(-1 if v.derivative_input is None else v.derivative_input) for v in model.inputs]
     lines.append(f"static const int input_derivative[] = {{{', '.join(map(str, derivs)) or '-1'}}};")
+    read = ", ".join(str(int(r)) for r in inputs_read(model)) or "0"
+    lines.append(f"static const int input_read[] = {{{read}}};")
     lines.append("static const mf_constraint constraints[] = {")
     for c in model.constraints:
         lines.append(f"    {{{_c_string(c.message)}, {int(c.strict)}}},")
@@ -185,7 +199,8 @@ const mf_model MF_MODEL = {{
     {{mf_dd, mf_dd_work}},
     {int(time_invariant(model))},
     mf_dd_sparsity_out,
-    {int(constant_derivatives(model))}
+    {int(constant_derivatives(model))},
+    input_read
 }};
 """)
     return "\n".join(lines)

@@ -86,6 +86,9 @@ typedef struct {
        ode) and there is no event indicator: a Co-Simulation step adds h xdot, exactly,
        without the solver (runtime.c step_without_solver) */
     int constant_derivatives;
+    /* for each input: 1 where a model function reads it, 0 for one that only carries
+       another input along its Taylor chain (a rate input); NULL: every input is read */
+    const int *input_read;
 } mf_model;
 
 extern const mf_model MF_MODEL;

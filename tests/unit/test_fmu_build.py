@@ -85,3 +85,18 @@ def test_the_directional_jacobian_holds_its_structural_nonzeros_only():
     assert pattern.nnz() < dense / 4, (pattern.nnz(), dense)
     symbolic = ca.jacobian(ca.vertcat(flat.xdot, flat.y, flat.z), ca.vertcat(flat.x, flat.u))
     assert pattern.nnz() == symbolic.nnz()
+
+
+def test_inputs_read_are_those_an_equation_uses_and_never_a_rate():
+    # The runtime extrapolates, at every right-hand side, only the inputs the model
+    # reads (model.h input_read): a friction block's forces and its support's motion
+    # are read, the rate inputs that only carry them along (components/dae.py rate_of)
+    # are not, and nothing else is left out.
+    from components import MassWithFriction
+    from fmus.codegen import inputs_read
+
+    model = flatten(MassWithFriction(m=1.0, g=1.0, mu_k=0.3, mu_s=0.4))
+    read = dict(zip((v.name for v in model.inputs), inputs_read(model)))
+    rates = {n for n in read if "_rate" in n}
+    assert rates and not any(read[n] for n in rates)
+    assert all(read[n] for n in read if n not in rates), read
