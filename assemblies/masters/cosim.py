@@ -53,9 +53,8 @@ from ..experiment import (FixedStepFallback, check_cosim_settings, check_experim
 from ..foreign import FMU, check_mode
 from ..inputs import with_inputs
 from ..result import Result, Table
-from .adaptive import (COAST_DEFECT_GROWTH, COAST_GUARDED, COAST_KEEP, COAST_MAX, COAST_STEADY,
-                       COAST_STEPS, ORDER_MAX, cells,
-                       StepController)
+from .adaptive import (COAST_GUARDED, COAST_KEEP, COAST_MAX, COAST_STEADY, COAST_STEPS,
+                       ORDER_MAX, StepController, cells, defect_allowance)
 from .events import (EVENT_TOL, MAX_SETTLE_STEPS, earliest_event_in_step, events_at_start,
                      fires_at_start, locate_start_event, probe_step)
 from .extrapolation import (RATES, chain_order, derivative_couplings, derivative_inputs,
@@ -813,6 +812,7 @@ class _Stepper:
         self.coast_done = 0
         self.coast_extended = False  # the run went on past its end to an output point
         self.defect_ref = 0.0  # the coupling defect at the last accepted estimate
+        self.defect_ref_h = math.inf  # ... and the length of the half step it was taken at
         self.shortened = False  # the last step was shortened to end at an event in it
         self.steps = 0
         self.events_synchronised = 0
@@ -879,8 +879,8 @@ class _Stepper:
             return
         if self.adaptive and coasting:
             # the motion strayed, or the couplings move unlike when the estimate was made
-            ok = m.defect <= 1.0 and (m.coupling_defect <= COAST_DEFECT_GROWTH * self.defect_ref
-                                      + 10.0 * self.tolerance)
+            ok = m.defect <= 1.0 and m.coupling_defect <= defect_allowance(
+                self.defect_ref, self.defect_ref_h, h_try, m.extrapolation, self.tolerance)
             if ok:
                 self.steps += 1
             else:  # estimate again from here
@@ -1065,9 +1065,12 @@ class _Stepper:
             # the second half step's coupling defect (it has the unjudged steps' length);
             # at the cap the largest since the run last reset (cosim.c says why)
             self.defect_ref = (max(m.coupling_defect, self.defect_ref)
-                               if steady and self.h >= ctrl.h_max else m.coupling_defect)
-            # the run's steps from the step asked for (fitted to the grid as taken)
-            self.coast, self.h_coast = self.coast_run, min(h_wanted, self.h) / 2
+                               if steady and self.h >= ctrl.h_cap else m.coupling_defect)
+            self.defect_ref_h = h_try / 2
+            # the run's steps from the step asked for (fitted to the grid as taken;
+            # longer than the estimate's halves only once the estimates are steady)
+            self.coast = self.coast_run
+            self.h_coast = min(h_wanted, self.h, ctrl.h_cap if steady else ctrl.h_max) / 2
             self.coast_done = 0
         elif ok or not self.coast_done or self.h < COAST_KEEP * h_wanted:
             self.coast_run, self.coast_done = COAST_STEPS, 0

@@ -60,20 +60,25 @@ def end_value(points: list[tuple[float, float]], h: float, order: int) -> float:
 
 def _fit(points, t, h, order) -> list[float]:
     """Coefficients, in units of the step from t, of the polynomial through the last
-    ``order + 1`` points (at most 4): Newton's divided differences expanded about t by
-    Horner's scheme, the same operations in the same order as the engine's fit_poly
-    (cosim.c), so that the two masters round alike (a solve of the Vandermonde system
-    costs the engine a quarter of its time on two_block_belt; issue 27)."""
+    ``order + 1`` points (at most 4): Newton's divided differences in absolute time,
+    expanded about t by Horner's scheme and scaled by h^k, the same operations in the
+    same order as the engine's fit_held (cosim.c), so that the two masters round alike
+    (a solve of the Vandermonde system costs the engine a quarter of its time on
+    two_block_belt; issue 27)."""
     pts = points[-(order + 1):]
-    tau = [(p[0] - t) / h for p in pts]
+    ts = [float(p[0]) for p in pts]
     coef = [float(p[1]) for p in pts]
     m = len(pts)
     for a in range(1, m):  # coef[b]: the divided difference over points b - a ... b
         for b in range(m - 1, a - 1, -1):
-            coef[b] = (coef[b] - coef[b - 1]) / (tau[b] - tau[b - a])
-    for a in range(m - 2, -1, -1):  # p = d[a] + (x - tau[a]) p, from the highest down
+            coef[b] = (coef[b] - coef[b - 1]) / (ts[b] - ts[b - a])
+    for a in range(m - 2, -1, -1):  # p = d[a] + (x - ts[a]) p, from the highest down
         for b in range(a, m - 1):
-            coef[b] -= tau[a] * coef[b + 1]
+            coef[b] -= (ts[a] - t) * coef[b + 1]
+    scale = 1.0
+    for k in range(1, m):
+        scale *= h
+        coef[k] *= scale
     return coef
 
 

@@ -86,6 +86,7 @@
    doSteps. */
 #define ORDER_MAX 3
 #define FIT_STRETCH 0.25      /* the steps of an interval may grow by a quarter of one in all */
+#define ESTIMATE_SPAN 2.0     /* the step asked for may be this many output intervals (adaptive.py) */
 
 #define HISTORY 4             /* points kept per held input: enough for order 3 */
 
@@ -118,11 +119,18 @@ typedef struct {
     long *version;
 } snapshot;
 
+/* A held input's last points and their divided differences (fit_held). */
+typedef struct {
+    int m;
+    double pt[HISTORY], pv[HISTORY], d[HISTORY];
+} poly_memo;
+
 /* Step controller of adaptive.py: error per unit step, exponent 1/p. Its shortest step
    is MF_MIN_STEP(t), the time's resolution where it stands: one relative to the
    horizon (1e-12 x 1e4 s) refused the steps a friction onset needs late in a long run. */
 typedef struct {
     double tol, horizon, h_max;
+    double h_cap; /* the longest step asked for: ESTIMATE_SPAN output intervals */
     int order;
 } controller;
 
@@ -155,12 +163,14 @@ struct cosim {
     int *judged_end;          /* per coupling: a rated chain end whose target has indicators
                                  (chain_defect) */
     double *rate_v;           /* per coupling, ENG_RATES: the rates set on its target */
+    poly_memo *memo;          /* per coupling: its last divided differences */
     double defect;            /* the last step's worst chain defect over its allowance */
     int defect_order;         /* ... and the order of that chain's defect in the step */
     eng_loop loop;            /* the loop solver, sized for the largest group */
     double coupling_defect;   /* the last step's worst coupling off its extrapolation */
     double defect_ref;        /* ... at the last accepted estimate's second half step
                                  (at the cap: the largest since the run last reset) */
+    double defect_ref_h;      /* ... the length of the half step it was taken at */
     int coast_run;            /* length of the next run of unjudged steps */
     int coast_done;           /* the last run of unjudged steps ran to its end (1), or
                                  the coupling defect ended it (COAST_GUARDED) */
@@ -303,37 +313,68 @@ static void push_history(cosim *c, int k, double t, double value)
     c->hist_n[k] = keep + 1;
 }
 
-/* Coefficients (in units of h from t) of the polynomial through the last order + 1 of
-   n points; returns how many (at most HISTORY). Newton's divided differences, expanded
-   about t by Horner's scheme, the operations of the fmpy master's extrapolation._fit in
-   its order (the two round alike): every held input takes this at every step and again
-   for its end value, where a 3 x 3 elimination with pivoting was a quarter of
-   two_block_belt's CPU time (perf, issue 27). The points are distinct communication
-   points. */
-static int fit_poly(const double *pt, const double *pv, int n, double t, double h, int order,
-                    double coef[HISTORY])
+/* Newton's divided differences d of m points, in absolute time: they depend on the
+   points alone, not on the step, so one set serves every step tried from the same
+   points (fit_held). The points are distinct communication points. */
+static void divided_differences(const double *pt, const double *pv, int m, double d[HISTORY])
 {
-    int m = n < order + 1 ? n : order + 1, a, b;
-    double tau[HISTORY];
+    int a, b;
+    for (a = 0; a < m; a++) d[a] = pv[a];
+    for (a = 1; a < m; a++) /* d[b]: the divided difference over points b - a ... b */
+        for (b = m - 1; b >= a; b--) d[b] = (d[b] - d[b - 1]) / (pt[b] - pt[b - a]);
+}
+
+/* The Newton form (d over the nodes pt) as coefficients in units of h from t,
+   p(t + s h) = sum_k coef[k] s^k: expanded about t by Horner's scheme, then scaled by
+   h^k. Only products: a held input is fitted at every step tried, and the divisions
+   of a fit in units of h (the old way) were a fifth of two_block_belt's CPU time
+   (perf). */
+static void expand_about(const double *pt, const double d[HISTORY], int m, double t, double h,
+                         double coef[HISTORY])
+{
+    double scale = 1.0;
+    int a, b;
+    for (a = 0; a < m; a++) coef[a] = d[a];
+    for (a = m - 2; a >= 0; a--) /* p = d[a] + (x - pt[a]) p, from the highest down */
+        for (b = a; b < m - 1; b++) coef[b] -= (pt[a] - t) * coef[b + 1];
+    for (a = 1; a < m; a++) {
+        scale *= h;
+        coef[a] *= scale;
+    }
+}
+
+/* Coefficients (in units of h from t) of the polynomial through the last order + 1 of
+   held input k's n points; returns how many (at most HISTORY). The operations of the
+   fmpy master's extrapolation._fit in its order (the two round alike). The divided
+   differences are remembered per input and reused where the points are the same
+   (set_held and held_end_value in every step, the full step and the first half of step
+   doubling); keyed on the values themselves, they cannot go stale. */
+static int fit_held(cosim *c, int k, const double *pt, const double *pv, int n, double t,
+                    double h, double coef[HISTORY])
+{
+    poly_memo *memo = &c->memo[k];
+    int order = c->cfg->extrapolation, m = n < order + 1 ? n : order + 1, a = 0;
     pt += n - m;
     pv += n - m;
-    for (a = 0; a < m; a++) {
-        tau[a] = (pt[a] - t) / h;
-        coef[a] = pv[a];
+    if (memo->m == m)
+        for (a = 0; a < m && memo->pt[a] == pt[a] && memo->pv[a] == pv[a]; a++) continue;
+    if (memo->m != m || a != m) {
+        divided_differences(pt, pv, m, memo->d);
+        memo->m = m;
+        memcpy(memo->pt, pt, (size_t)m * sizeof(double));
+        memcpy(memo->pv, pv, (size_t)m * sizeof(double));
     }
-    for (a = 1; a < m; a++) /* coef[b]: the divided difference over points b - a ... b */
-        for (b = m - 1; b >= a; b--) coef[b] = (coef[b] - coef[b - 1]) / (tau[b] - tau[b - a]);
-    for (a = m - 2; a >= 0; a--) /* p = d[a] + (x - tau[a]) p, from the highest down */
-        for (b = a; b < m - 1; b++) coef[b] -= tau[a] * coef[b + 1];
+    expand_about(pt, memo->d, m, t, h, coef);
     return m;
 }
 
 /* Mean over [t, t + h] of the polynomial through the last order + 1 points. */
-static double step_mean(const double *pt, const double *pv, int n, double t, double h, int order)
+static double step_mean(cosim *c, int k, const double *pt, const double *pv, int n, double t,
+                        double h)
 {
     double coef[HISTORY], mean = 0.0;
-    int m = fit_poly(pt, pv, n, t, h, order, coef), k;
-    for (k = 0; k < m; k++) mean += coef[k] / (k + 1);
+    int m = fit_held(c, k, pt, pv, n, t, h, coef), j;
+    for (j = 0; j < m; j++) mean += coef[j] / (j + 1);
     return mean;
 }
 
@@ -357,13 +398,13 @@ static int held_points(const cosim *c, int k, double t_source, double now, doubl
 }
 
 /* The constant for held input k over [t, t + h]. */
-static double held_value(const cosim *c, int k, double t, double h, double t_source, double now)
+static double held_value(cosim *c, int k, double t, double h, double t_source, double now)
 {
     double pt[HISTORY + 1], pv[HISTORY + 1];
     int n;
     if (c->cfg->extrapolation == 0 && t_source == t) return now;
     n = held_points(c, k, t_source, now, pt, pv);
-    return step_mean(pt, pv, n, t, h, c->cfg->extrapolation);
+    return step_mean(c, k, pt, pv, n, t, h);
 }
 
 /* Held input k's rate inputs, where its target has them (cosim.h: rates); NULL
@@ -390,6 +431,33 @@ static int set_rates(cosim *c, int k, const eng_variable *r, const double rates[
     return 0;
 }
 
+/* Sets held input k and its rates on its stepped target in one fmu_set_float64 where
+   all are plain Float64 values of it (ours always are: four calls through every FMI
+   layer cost more than the fit they set). 1: set; 0: not such a case (nothing set);
+   -1: the FMU refused them. */
+static int set_plain_with_rates(cosim *c, int k, const eng_variable *r, double value,
+                                const double rates[ENG_RATES], double t)
+{
+    const eng_variable *v = &c->cfg->couplings[k].target;
+    uint32_t vr[1 + ENG_RATES];
+    double values[1 + ENG_RATES];
+    int n = 1, j;
+    if ((c->any_evaluated && c->evaluated[v->instance]) || !ENG_PLAIN(v)) return 0;
+    vr[0] = v->vr;
+    values[0] = value;
+    for (j = 0; j < ENG_RATES; j++) {
+        if (r[j].instance < 0) continue;
+        if (r[j].instance != v->instance || !ENG_PLAIN(&r[j])) return 0;
+        vr[n] = r[j].vr;
+        values[n++] = rates[j];
+    }
+    if (fmu_set_float64(c->fmus[v->instance], vr, (size_t)n, values))
+        return fmu_fail(c, v->instance, "set of a coupled input and its rates", t);
+    c->u[k] = value;
+    for (j = 0; j < ENG_RATES; j++) c->rate_v[ENG_RATES * k + j] = r[j].instance >= 0 ? rates[j] : 0.0;
+    return 1;
+}
+
 /* Sets held input k for the step [t, t + h]: the extrapolating polynomial itself where
    its target takes the input's rates (its value and derivatives at t, which the FMU's
    Taylor chain turns back into the polynomial), its step mean otherwise. */
@@ -398,14 +466,15 @@ static int set_held(cosim *c, int k, double t, double h, double t_source, double
     const eng_variable *r = rate_inputs(c, k);
     double pt[HISTORY + 1], pv[HISTORY + 1], coef[HISTORY] = {0.0}, rates[ENG_RATES] = {0.0};
     double scale = 1.0;
-    int m, j;
+    int m, j, batched;
     if (!r) return set_input(c, k, held_value(c, k, t, h, t_source, now), t);
-    m = fit_poly(pt, pv, held_points(c, k, t_source, now, pt, pv), t, h, c->cfg->extrapolation,
-                 coef);
+    m = fit_held(c, k, pt, pv, held_points(c, k, t_source, now, pt, pv), t, h, coef);
     for (j = 0; j < ENG_RATES && j + 1 < m; j++) { /* d^j/dt^j of coef[j] (t - t0)^j / h^j */
         scale *= (double)(j + 1) / h;
         rates[j] = coef[j + 1] * scale;
     }
+    batched = set_plain_with_rates(c, k, r, coef[0], rates, t);
+    if (batched) return batched < 0 ? -1 : 0;
     if (set_input(c, k, coef[0], t)) return -1;
     return set_rates(c, k, r, rates, t);
 }
@@ -452,13 +521,13 @@ static double chain_end_value(const cosim *c, int k, double h)
 
 /* Where the extrapolating polynomial through held input k's history (its last point is
    the step's start) puts the coupling at the end of a step of h. */
-static double held_end_value(const cosim *c, int k, double h)
+static double held_end_value(cosim *c, int k, double h)
 {
     const double *ht = c->hist_t + k * HISTORY, *hv = c->hist_v + k * HISTORY;
     double coef[HISTORY], end = 0.0;
     int n = c->hist_n[k], m, j;
     if (n < 1) return c->u[k];
-    m = fit_poly(ht, hv, n, ht[n - 1], h, c->cfg->extrapolation, coef);
+    m = fit_held(c, k, ht, hv, n, ht[n - 1], h, coef);
     for (j = 0; j < m; j++) end += coef[j]; /* at tau = 1: t + h */
     return end;
 }
@@ -1177,6 +1246,7 @@ static int create(cosim *c, const eng_cosim_spec *g)
     c->chain_order = (int *)calloc((size_t)n_c, sizeof(int));
     c->rate_v = (double *)calloc(ENG_RATES * (size_t)n_c, sizeof(double));
     c->judged_end = (int *)calloc((size_t)n_c, sizeof(int));
+    c->memo = (poly_memo *)calloc((size_t)n_c + 1, sizeof(poly_memo));
     c->row = (double *)calloc((size_t)width_max, sizeof(double));
     c->evaluated = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
     c->recorded = (int *)calloc((size_t)g->n_instances + 1, sizeof(int));
@@ -1201,7 +1271,7 @@ static int create(cosim *c, const eng_cosim_spec *g)
     if (!c->run || !c->inst || !c->fmus || !c->u || !c->hist_t || !c->hist_v || !c->hist_n
         || !c->in_loop || !c->done || !c->moving || !c->asleep_since || !c->which || !c->state
         || !c->coarse || !c->row || !c->predicted || !c->settle_u || !c->chain_order || !c->rate_v
-        || !c->judged_end
+        || !c->judged_end || !c->memo
         || eng_loop_alloc(&c->loop, largest_loop))
         return fail(c, "out of memory");
     c->all_rated = 1;
@@ -1308,7 +1378,7 @@ static int judge(cosim *c, const controller *k, double error, double noise, doub
     if (!ok) factor = fmin(factor, 0.9);
     else if (c->rejected_last) factor = fmin(factor, 1.0);
     c->rejected_last = !ok;
-    *h_next = fmin(k->h_max, h * factor);
+    *h_next = fmin(k->h_cap, h * factor);
     return ok;
 }
 
@@ -1344,6 +1414,7 @@ static void start_stepping(cosim *c, double t0, double horizon)
     c->ctl.tol = g->tol;
     c->ctl.horizon = horizon;
     c->ctl.h_max = g->step;
+    c->ctl.h_cap = ESTIMATE_SPAN * g->step;
     c->ctl.order = g->extrapolation == 0 ? 1
                    : c->all_rated ? (int)fmin(g->extrapolation + 1, ORDER_MAX) : 2;
     c->h = g->adaptive ? g->step / 4 : g->step;
@@ -1352,6 +1423,18 @@ static void start_stepping(cosim *c, double t0, double horizon)
     c->coast_done = 0;
     c->coast_extended = 0;
     c->defect_ref = 0.0;
+    c->defect_ref_h = INFINITY;
+}
+
+/* How far a run's unjudged step of h may take the coupling defect (adaptive.py
+   defect_allowance): COAST_DEFECT_GROWTH times the estimate's, grown as the
+   extrapolation's error, (h / h_ref)^(p + 1), where the step is longer than the half step
+   it was taken at (a run's steps may be a whole output interval, ESTIMATE_SPAN), plus
+   ten times the FMUs' tolerance. */
+static double defect_allowance(const cosim *c, double h)
+{
+    double growth = h > c->defect_ref_h ? pow(h / c->defect_ref_h, c->cfg->extrapolation + 1) : 1.0;
+    return COAST_DEFECT_GROWTH * c->defect_ref * growth + 10.0 * c->cfg->tolerance;
 }
 
 /* How many equal steps of about h fill r: at most h each, or together a quarter of one
@@ -1463,7 +1546,7 @@ static int one_step(cosim *c, double target)
     if (coasting) {
         /* the motion strayed, or the couplings move unlike when the estimate was made */
         if (c->defect > 1.0
-            || c->coupling_defect > COAST_DEFECT_GROWTH * c->defect_ref + 10.0 * g->tolerance) {
+            || c->coupling_defect > defect_allowance(c, h_try)) {
             if (restore(c, &c->snap[0])) return -1;
             c->run_stats->rejected++;
             /* (also after the coupling's defect: without, the estimate that follows
@@ -1539,10 +1622,13 @@ static int one_step(cosim *c, double target)
                    stuck pad rings at 34.9 rad/s, whose phase made half of its unjudged
                    steps at the output interval estimate again (tol 1e-2: 22546 -> 17946
                    doSteps, error 2.2e-5 -> 3.3e-5; moving_table never gets there) */
-                c->defect_ref = steady && h_next >= c->ctl.h_max
+                c->defect_ref = steady && h_next >= c->ctl.h_cap
                                     ? fmax(c->coupling_defect, c->defect_ref) : c->coupling_defect;
+                c->defect_ref_h = h_try / 2;
                 c->coast = c->coast_run;
-                c->h_coast = fmin(h_wanted, h_next) / 2; /* (fitted to the grid as taken) */
+                /* (fitted to the grid as taken; longer than the estimate's halves only
+                   once the estimates are steady, ESTIMATE_SPAN) */
+                c->h_coast = fmin(fmin(h_wanted, h_next), steady ? c->ctl.h_cap : c->ctl.h_max) / 2;
                 c->coast_done = 0;
             } else if (ok || !c->coast_done || h_next < COAST_KEEP * h_wanted) {
                 c->coast_run = COAST_STEPS;
@@ -1696,6 +1782,7 @@ static void destroy(cosim *c)
     free(c->settle_u);
     free(c->chain_order);
     free(c->rate_v);
+    free(c->memo);
     free(c->judged_end);
     eng_loop_free(&c->loop);
     free(c->row);
