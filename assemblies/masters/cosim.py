@@ -1063,9 +1063,10 @@ class _Stepper:
                               if self.coast_done == COAST_GUARDED
                               else min(2 * self.coast_run, COAST_MAX))
             # the second half step's coupling defect (it has the unjudged steps' length);
-            # at the cap the largest since the run last reset (cosim.c says why)
+            # from an output interval on the largest since the run last reset (cosim.c
+            # says why)
             self.defect_ref = (max(m.coupling_defect, self.defect_ref)
-                               if steady and self.h >= ctrl.h_cap else m.coupling_defect)
+                               if steady and self.h >= ctrl.h_max else m.coupling_defect)
             self.defect_ref_h = h_try / 2
             # the run's steps from the step asked for (fitted to the grid as taken;
             # longer than the estimate's halves only once the estimates are steady)

@@ -169,7 +169,8 @@ struct cosim {
     eng_loop loop;            /* the loop solver, sized for the largest group */
     double coupling_defect;   /* the last step's worst coupling off its extrapolation */
     double defect_ref;        /* ... at the last accepted estimate's second half step
-                                 (at the cap: the largest since the run last reset) */
+                                 (from an output interval on: the largest since the run
+                                 last reset) */
     double defect_ref_h;      /* ... the length of the half step it was taken at */
     int coast_run;            /* length of the next run of unjudged steps */
     int coast_done;           /* the last run of unjudged steps ran to its end (1), or
@@ -1614,15 +1615,17 @@ static int one_step(cosim *c, double target)
                 c->coast_run = !steady ? COAST_STEPS
                                : c->coast_done == COAST_GUARDED ? c->coast_run
                                : c->coast_run < COAST_MAX / 2 ? 2 * c->coast_run : COAST_MAX;
-                /* below the cap the defect when the estimate was made: an estimate
-                   taken where the error is small (a phase of an oscillation) would
-                   otherwise let a longer step run on where it is large. At the cap no
-                   estimate lengthens the step, and the reference keeps the largest
+                /* below an output interval the defect when the estimate was made: an
+                   estimate taken where the error is small (a phase of an oscillation)
+                   would otherwise let a longer step run on where it is large. From a
+                   step asked for of an output interval on, the grid sets the run's
+                   steps (the interval's halves, or the whole interval, ESTIMATE_SPAN),
+                   and the reference keeps the largest
                    defect of the runs the estimates vouched for: beam_friction_damper's
                    stuck pad rings at 34.9 rad/s, whose phase made half of its unjudged
                    steps at the output interval estimate again (tol 1e-2: 22546 -> 17946
                    doSteps, error 2.2e-5 -> 3.3e-5; moving_table never gets there) */
-                c->defect_ref = steady && h_next >= c->ctl.h_cap
+                c->defect_ref = steady && h_next >= c->ctl.h_max
                                     ? fmax(c->coupling_defect, c->defect_ref) : c->coupling_defect;
                 c->defect_ref_h = h_try / 2;
                 c->coast = c->coast_run;
