@@ -79,8 +79,9 @@ interval, a run's steps were half of it however smooth the motion, and
 two_block_belt's steady sliding took two steps per output interval (tol 1e-4: 6,530
 steps for 3,000 intervals; now 5,172). Before the estimates are steady, the run's
 steps stay within the estimate's halves: beam_friction_damper's ringing pad rejected
-such longer steps (tol 1e-2: 159 rejections and 11,486 doSteps, against 145 and 10,864
-steady-gated). The coupling defect of a run's step longer than the estimate's half
+such longer steps (tol 1e-2, measured before the defect reference took its current
+rule, cosim.c: 159 rejections and 11,486 doSteps ungated, against 145 and 10,864
+gated). The coupling defect of a run's step longer than the estimate's half
 steps it is compared with is scaled up as the extrapolation's error, by
 (h / h_ref)^(p + 1) (defect_allowance): unscaled, every such step was taken for a
 changed coupling and estimated again.
