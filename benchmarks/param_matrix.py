@@ -12,16 +12,17 @@ scene and mode (cosim, me, monolithic) the runs are, over a short stop time:
 - ``aliases``: every start-value alias at once, where the scene has any;
 - one run per option value that is not the scene's own (string options: every value;
   integer options: their least and largest value and any word they take, such as
-  n_modes='auto'; --quick: the least value other than the default, and the words), and
-  one per FMU solver setting, on every instance at once; --quick runs these in the
-  scene's own mode only.
+  n_modes='auto'; --quick: the least value other than the default, and the words, each
+  on every instance of a kind at once), and one per FMU solver setting, on every
+  instance at once; --quick runs these in the scene's own mode only.
 
 A run passes when it returns a result (its figures may fail: the physics changed) or is
 refused with one line: a MechfmuError whose message is a single line. Anything else (a
 KeyError from a figure, a traceback from the engine, a message over several lines) is a
 failure. tests/integration/test_param_matrix.py runs the --quick cases of every scene;
-this command runs them all, 531 runs (244 with --quick: 5 s on a warm FMU cache, about
-2 min of CPU on a cold one). Most of the full run's time is building FMUs for option
+this command runs them all, 879 runs (380 with --quick: seconds on a warm FMU cache,
+minutes of gcc on a cold one, most of it for joined models: coupled_clutches' takes
+60-100 s to compile). Most of the full run's time is building FMUs for option
 values the cache has not seen; the largest beam is the extreme: n_modes=128 builds in
 about 20 s modal, but many minutes of gcc in the assumed coordinates (beam_tip_force)
 and as a joined model (monolithic beam_free_vibration, over 12 min on a busy machine):
@@ -109,10 +110,12 @@ def cases(sc, quick: bool = False) -> list[Case]:
     """The runs of scene `sc` (see the module's docstring). With `quick`, an option value
     or solver setting runs in the scene's own mode only, as `--param` without `--mode`
     would: each value in another mode is another FMU to build (a joined model per value
-    in monolithic), and the nudged runs already take every mode through every name."""
+    in monolithic), and the nudged runs already take every mode through every name; and
+    an option value is set on every instance of a kind in one run."""
     from components.component import Component
     asm = sc.build()
-    nudged, aliases, optional = {}, {}, []
+    nudged, aliases = {}, {}
+    optional: dict[tuple, Case] = {}
     components = [(name, inst) for name, inst in asm.components.items()]
     for name, inst in components:
         numbers = {**inst.values, **inst.starts}
@@ -130,14 +133,22 @@ def cases(sc, quick: bool = False) -> list[Case]:
                     aliases[f"{name}.{key}"] = value
         for option in inst.options:
             for value in _option_values(option, quick):
-                if value != inst.option(option.name):
-                    optional.append(Case(f"{name}.{option.name}={value}",
-                                         {f"{name}.{option.name}": value}))
+                if value == inst.option(option.name):
+                    continue
+                # quick: a value goes to every instance of the kind at once (one joined
+                # model to build in monolithic, not one per clutch of coupled_clutches,
+                # 80 s of gcc each); the full matrix tries each instance on its own
+                key = ((type(inst).__name__, option.name, repr(value)) if quick
+                       else (name, option.name, repr(value)))
+                case = optional.setdefault(key, Case("", {}))
+                case.params[f"{name}.{option.name}"] = value
+                owners = ",".join(param.rsplit(".", 1)[0] for param in case.params)
+                case.label = f"{owners}.{option.name}={value}"
     solvers = [Case(f"solver={value}", {f"{name}.solver": value for name, inst in components
                                         if isinstance(inst, Component)})
                for value in SOLVER_VALUES]
     runs = [Case("nudged", nudged)] + ([Case("aliases", aliases)] if aliases else [])
-    chosen = optional + [s for s in solvers if s.params]
+    chosen = list(optional.values()) + [s for s in solvers if s.params]
     if quick:
         for case in chosen:
             case.modes = (sc.mode,)

@@ -14,6 +14,7 @@ it at once (:func:`fetch_fmu`).
 """
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import importlib.util
 import os
@@ -23,7 +24,8 @@ import subprocess
 import sys
 import tempfile
 import zipfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -129,6 +131,18 @@ def compile_library(c_files: list[Path], library: Path, include_dirs: list[Path]
         raise BuildError(f"gcc failed for {what}:\n{result.stderr}")
 
 
+@contextmanager
+def build_lock(target: Path) -> Iterator[None]:
+    """Held while `target` is built into the cache: a second process asking for the same
+    binary (another pytest-xdist or Dask worker on a cold cache) waits for the first's and
+    then finds it, instead of compiling it too (coupled_clutches' joined model is a minute
+    of gcc). The lock file stays beside the target; the lock goes with the process."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with open(target.with_name(target.name + ".lock"), "a") as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        yield
+
+
 def token_from_digest(digest: str) -> str:
     """A GUID-shaped instantiation token from a hex content digest: the same content,
     the same token."""
@@ -151,14 +165,15 @@ def cached_library(folder: str, stem: str, sources: list[Path], include_dirs: li
         integrity.report(target, f"library of {what}", announce)
         integrity.discard(target)
     if not target.exists():
-        if announce:  # seconds of gcc: a first run says why it is slow
-            announce(f"compiling {what} (once per machine)")
-        target.parent.mkdir(parents=True, exist_ok=True)
-        partial = target.with_suffix(f".{os.getpid()}.partial")
-        compile_library([p for p in sources if p.suffix == ".c"], partial, include_dirs, what,
-                        defines)
-        integrity.record(target, partial)
-        partial.replace(target)  # atomic: a parallel build never loads half a library
+        with build_lock(target):
+            if not target.exists():  # (else another process built it meanwhile)
+                if announce:  # seconds of gcc: a first run says why it is slow
+                    announce(f"compiling {what} (once per machine)")
+                partial = target.with_suffix(f".{os.getpid()}.partial")
+                compile_library([p for p in sources if p.suffix == ".c"], partial,
+                                include_dirs, what, defines)
+                integrity.record(target, partial)
+                partial.replace(target)  # atomic: a parallel build never loads half a library
     return target
 
 
@@ -266,10 +281,13 @@ def fetch_fmu(component: Component, fmi_version: int = DEFAULT_FMI, tolerance: f
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     _drop_if_damaged(cached)
     if not cached.exists():
-        if announce:
-            announce(f"building the FMU of {identifier} (FMI {fmi_version}, once per machine)")
-        _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token),
-                 cached, fmi_version, html)
+        with build_lock(cached):
+            if not cached.exists():  # (else another process built it meanwhile)
+                if announce:
+                    announce(f"building the FMU of {identifier} (FMI {fmi_version}, once per "
+                             "machine)")
+                _compile(identifier, c_source.replace("@TOKEN@", token),
+                         xml.replace("@TOKEN@", token), cached, fmi_version, html)
     facts = model_facts(model)
     recipes().update(key, fmu=cached.name, facts=facts)
     return BuiltFmu(cached, facts)

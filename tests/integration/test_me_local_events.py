@@ -13,7 +13,7 @@ STOP, STEP = 10.0, 0.1
 TOL, REF_TOL = 1e-9, 1e-10
 
 
-@pytest.fixture(scope="module", params=[4, 16])
+@pytest.fixture(scope="module", params=[4, 8])
 def runs(request):
     n = request.param
     res = simulate_me(bench_chain(n), STOP, STEP, TOL, record=positions(n))
