@@ -15,8 +15,9 @@ Every run is the compiled engine's master called on the scene's pruned assembly 
 first call. Fixed steps are h = step / n (n = 1, 2, 3, 4, 6, 8, …; the same extrapolation
 as the adaptive runs, ``--extrapolation``, by default DEFAULT_SCHEME's), their rows at every n-th step compared; n stops growing once a run is far
 dearer than every co-simulation run. The error is :func:`benchmarks.joined.deviation`
-against the composite FMU at 1e-12. Times are process CPU times, taken round-robin over
-every run of a scene ``--repeats`` times (the machine is shared): the median, with the
+against the composite FMU at 1e-12. Times are process CPU times (the benchmark's own
+heap frozen out of the garbage collector, :func:`benchmarks.chain.cpu_seconds`), taken
+round-robin over every run of a scene ``--repeats`` times (the machine is shared): the median, with the
 spread (max - min) / median; each ratio with its range over the repeats (the extremes of
 one run's times over the other's). "doSteps per step" counts: doSteps over communication
 steps tried (accepted and rejected) and instances, 1 for a fixed step, 3 for step
@@ -36,7 +37,6 @@ import json
 import math
 import statistics
 import sys
-import time
 
 import numpy as np
 
@@ -46,6 +46,7 @@ from assemblies.pruning import prune_unrecorded
 from assemblies.result import Result
 from assemblies.scenes import scene as get_scene
 
+from .chain import cpu_seconds
 from .joined import REFERENCE_TOLERANCE, SCENES, deviation, reference
 
 COSIM_TOLERANCES = (1e-2, 1e-3, 1e-4, 1e-5)
@@ -92,9 +93,7 @@ def runners(name: str, extrapolation: int = DEFAULT_SCHEME["extrapolation"]
 def _first(run: dict, ref, n_instances: int) -> None:
     """The untimed call: error, counts, and a first CPU time (to prune fixed steps)."""
     run["call"]()  # loads; untimed
-    started = time.process_time()
-    result = run["call"]()
-    run["cpu_first"] = time.process_time() - started
+    run["cpu_first"], result = cpu_seconds(run["call"])
     run["error"] = deviation(result, ref)
     s = result.settings
     if run["mode"] == "cosim":
@@ -121,9 +120,7 @@ def measure_scene(name: str, repeats: int,
     samples = {id(r): [] for r in runs}
     for _ in range(repeats):  # round-robin: the machine's load falls on every run alike
         for run in runs:
-            started = time.process_time()
-            run["call"]()
-            samples[id(run)].append(time.process_time() - started)
+            samples[id(run)].append(cpu_seconds(run["call"])[0])
     out = []
     for run in runs:
         cpu = samples[id(run)] or [run["cpu_first"]]
