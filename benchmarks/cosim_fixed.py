@@ -17,8 +17,8 @@ as the adaptive runs, ``--extrapolation``, by default DEFAULT_SCHEME's), their r
 dearer than every co-simulation run. The error is :func:`benchmarks.joined.deviation`
 against the composite FMU at 1e-12. Times are process CPU times (the benchmark's own
 heap frozen out of the garbage collector, :func:`benchmarks.chain.cpu_seconds`), taken
-round-robin over every run of a scene ``--repeats`` times (the machine is shared): the median, with the
-spread (max - min) / median; each ratio with its range over the repeats (the extremes of
+round-robin over every run of a scene ``--repeats`` times (the machine is shared): the
+median, with the spread (max - min) / median; each ratio with its range over the repeats (the extremes of
 one run's times over the other's). "doSteps per step" counts: doSteps over communication
 steps tried (accepted and rejected) and instances, 1 for a fixed step, 3 for step
 doubling, less where unjudged steps follow an accepted estimate (COAST_STEPS, growing
