@@ -14,7 +14,8 @@ scene and mode (cosim, me, monolithic) the runs are, over a short stop time:
   integer options: their least and largest value and any word they take, such as
   n_modes='auto'; --quick: the least value other than the default, and the words, each
   on every instance of a kind at once), and one per FMU solver setting, on every
-  instance at once; --quick runs these in the scene's own mode only.
+  instance at once; --quick runs these in the scene's own mode only (option values of a
+  joined scene in me: `cases`).
 
 A run passes when it returns a result (its figures may fail: the physics changed) or is
 refused with one line: a MechfmuError whose message is a single line. Anything else (a
@@ -109,9 +110,11 @@ def _option_values(option, quick: bool) -> list:
 def cases(sc, quick: bool = False) -> list[Case]:
     """The runs of scene `sc` (see the module's docstring). With `quick`, an option value
     or solver setting runs in the scene's own mode only, as `--param` without `--mode`
-    would: each value in another mode is another FMU to build (a joined model per value
-    in monolithic), and the nudged runs already take every mode through every name; and
-    an option value is set on every instance of a kind in one run."""
+    would: each value in another mode is another FMU to build, and the nudged runs
+    already take every mode through every name; an option value of a scene joined into
+    one model (monolithic) runs in me instead, where it builds its component's FMU
+    alone, not a joined model per value; and an option value is set on every instance
+    of a kind in one run."""
     from components.component import Component
     asm = sc.build()
     nudged, aliases = {}, {}
@@ -148,11 +151,16 @@ def cases(sc, quick: bool = False) -> list[Case]:
                                         if isinstance(inst, Component)})
                for value in SOLVER_VALUES]
     runs = [Case("nudged", nudged)] + ([Case("aliases", aliases)] if aliases else [])
-    chosen = list(optional.values()) + [s for s in solvers if s.params]
+    options, solvers = list(optional.values()), [s for s in solvers if s.params]
     if quick:
-        for case in chosen:
+        for case in solvers:
             case.modes = (sc.mode,)
-    return runs + chosen
+        # an option value shapes its component's binary: in me that is the one component's
+        # FMU (seconds of gcc), in monolithic the whole joined model again (coupled_clutches:
+        # 80 s). The joined models' own options are the full matrix's.
+        for case in options:
+            case.modes = ("me",) if sc.mode == "monolithic" else (sc.mode,)
+    return runs + options + solvers
 
 
 def run_case(name: str, mode: str, case: Case) -> Outcome:

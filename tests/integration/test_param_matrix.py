@@ -3,7 +3,8 @@
 The cases are benchmarks.param_matrix's --quick ones: per scene, every numeric parameter
 and start value nudged at once in each mode, the start-value aliases at once, and every
 option value (on every instance of a kind at once) and FMU solver setting in the
-scene's own mode, over five output intervals.
+scene's own mode (option values of a joined, monolithic scene in me), over five output
+intervals.
 `python -m benchmarks.param_matrix` runs every option value in every mode too.
 """
 import pytest
