@@ -32,6 +32,7 @@ from ..inputs import with_inputs
 from ..limits import check_output_values
 from ..masters.loops import loop_order
 from ..result import Result, Table
+from ..value_types import STRING
 from . import binding as B
 from .build import library
 from .liveness import continuous_couplings, indicator_couplings, row_couplings
@@ -136,6 +137,8 @@ class _Plan:
         self.column_names = [f"{self.names[i]}.{v}" for i, v in columns]
         self.labels = self.column_names  # the result's column names (a composite's: its own)
         self.column_vars = [(self.fmus[i], v) for i, v in columns]
+        self.string_columns = [k for k, (fmu, v) in enumerate(self.column_vars)
+                               if fmu.variables[v][1] == STRING]
         self.columns = (B.Variable * max(1, len(columns)))(*[
             variable(self.names[i], v) for i, v in columns])
         self.column_state = keep.array(C.c_int, [
@@ -153,8 +156,10 @@ class _Plan:
         for i, ((floats, ints, typed, strings), (f_values, i_values, t_values), values) in \
                 enumerate(zip(self.start_keys, self.start_arrays, starts)):
             f_values[:len(floats)] = [values[k] for k in floats]
-            i_values[:len(ints)] = [int(values[k]) for k in ints]
-            t_values[:len(typed)] = [values[k] for k in typed]
+            if ints:  # (an empty slice's assignment costs a short run ~0.5 us)
+                i_values[:len(ints)] = [int(values[k]) for k in ints]
+            if typed:
+                t_values[:len(typed)] = [values[k] for k in typed]
             if strings:
                 self.string_keep[i] = keep = B.Keep()
                 B.set_strings(keep, self.specs[i], [
@@ -172,8 +177,10 @@ class _Plan:
         merged = {name: {**c.values, **c.starts} for name, c in components.items()}
         f_values, i_values, t_values = self.start_arrays[0]
         f_values[:len(floats)] = [merged[name][k] for name, k in floats]
-        i_values[:len(ints)] = [int(merged[name][k]) for name, k in ints]
-        t_values[:len(typed)] = [merged[name][k] for name, k in typed]
+        if ints:
+            i_values[:len(ints)] = [int(merged[name][k]) for name, k in ints]
+        if typed:
+            t_values[:len(typed)] = [merged[name][k] for name, k in typed]
 
     def _buffers(self, start_time, stop_time, step):
         """The output times, the buffers the C writes (rows, when each instance fell
@@ -280,10 +287,13 @@ class _Plan:
         n = stats.n_rows
         rows = out[:n].copy()  # the buffers serve the plan's next run
         table = {"time": times[:n].copy()}
-        for k, (column, (fmu, var)) in enumerate(zip(self.labels, self.column_vars)):
-            table[column] = B.typed_column(lib, fmu, var, rows[:, k])
+        for k, column in enumerate(self.labels):
+            table[column] = rows[:, k]
+        for k in self.string_columns:  # string-table indices as the text they are
+            fmu, var = self.column_vars[k]
+            table[self.labels[k]] = B.typed_column(lib, fmu, var, rows[:, k])
         by = stats.terminated_by
-        until = {n: float(t) for n, t in zip(self.names, taken)}
+        until = dict(zip(self.names, taken.tolist()))
         settings = {
             "start_time": start_time, "stop_time": stop_time, "step": step,
             "tolerance": tolerance, "scheme": scheme,
@@ -301,7 +311,7 @@ class _Plan:
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,
             "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
-            "asleep": {n: float(t) for n, t in zip(self.names, asleep) if math.isfinite(t)},
+            "asleep": {n: t for n, t in zip(self.names, asleep.tolist()) if math.isfinite(t)},
             "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
             "event_location": "whole assembly" if self.indicator_start is None else "per instance",
             "set_at_events_only": list(self.deferred),
@@ -630,7 +640,7 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
                   for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
         settings["wall_s"] = wallclock.perf_counter() - started
         settings["setup_s"] = setup_s
-        return Result(table, tables, settings)
+        return Result.of_columns(table, tables, settings)
     return run
 
 
@@ -725,5 +735,5 @@ def prepare_monolithic(assembly: Assembly, stop_time: float, step: float,
                                                     plan.layout.terminate, "assembly")
         settings["wall_s"] = wallclock.perf_counter() - started
         settings["setup_s"] = setup_s
-        return Result(table, tables, settings)
+        return Result.of_columns(table, tables, settings)
     return run
