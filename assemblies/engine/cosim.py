@@ -167,9 +167,9 @@ SHAPES_KEPT = 64  # a sweep over many assemblies keeps the latest, not all
 
 def run_shape(assembly: Assembly, fmus: dict) -> RunShape:
     """The run's structure, memoised by the assembly's structure_key (names, binaries,
-    profiles, connections) and its prepared FMUs: a run of a scene called again with new
-    values spent 1.5 ms of two_block_belt's 30 in building it again (cProfile). The
-    assembly's profiles are resolved (the key holds them)."""
+    profiles, connections) and its prepared FMUs: a scene run again with new values built
+    it again each time, 1 of the 2.2 ms two_block_belt's call spent outside the C (26 ms
+    in all at tol 1e-4). The assembly's profiles are resolved (the key holds them)."""
     key = (structure_key(assembly), assembly.signals_from_outside,
            tuple(id(f) for f in fmus.values()))  # the entry holds the FMUs: ids stay theirs
     with _shapes_lock:
