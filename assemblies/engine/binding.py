@@ -9,6 +9,7 @@ from __future__ import annotations
 import _signal
 import ctypes as C
 import signal
+import struct
 import threading
 
 import numpy as np
@@ -71,6 +72,29 @@ class Stats(C.Structure):  # eng_stats
                 ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
                 ("jacobian_band", C.c_long), ("loop_iterations", C.c_long),
                 ("loop_matrices", C.c_long), ("event_instances", C.c_long)]
+
+
+def _numbers_layout(structure) -> tuple[struct.Struct, tuple[str, ...]]:
+    """One struct.Struct that reads every int, long and double field of a ctypes
+    Structure at its offset, and their names: a run's statistics in one call instead of
+    a ctypes attribute read each (twenty of those cost a short run ~1.5 us)."""
+    codes = {C.c_int: "i", C.c_long: "q" if C.sizeof(C.c_long) == 8 else "i", C.c_double: "d"}
+    fields = sorted((getattr(structure, name).offset, name, codes[kind])
+                    for name, kind in structure._fields_ if kind in codes)
+    fmt, at = "=", 0
+    for offset, _, code in fields:
+        fmt += (f"{offset - at}x" if offset > at else "") + code
+        at = offset + struct.calcsize("=" + code)
+    return struct.Struct(fmt), tuple(name for _, name, _ in fields)
+
+
+_STATS_LAYOUT = _numbers_layout(Stats)
+
+
+def stats_numbers(stats: Stats) -> dict:
+    """The numbers of an eng_stats (every field but the messages), by field name."""
+    layout, names = _STATS_LAYOUT
+    return dict(zip(names, layout.unpack_from(stats)))
 
 
 class MeSpec(C.Structure):  # eng_me_spec

@@ -16,6 +16,7 @@ import math
 import threading
 import time as wallclock
 import warnings
+from operator import itemgetter
 from typing import Callable
 
 import numpy as np
@@ -85,7 +86,10 @@ class _Plan:
         self.rest_group = None  # eng_me_spec.rest_group (prepare.rest_groups); None: no rest
         self.grid = None  # ((stop time, step), buffers) of the last run (_buffers)
         self.member_lists = None  # a composite's start keys as (member, name): set_member_starts
+        self.float_runs = None  # its Float64 keys by member (_runs_by_member), made at first use
         self.spec = None  # the MeSpec of the runs, its per-run fields set by each (run)
+        self.spec_fields = None  # those fields as the last run set them
+        self.stats = B.Stats()  # each run's, read before the next (the C zeroes it first)
         self.keep = keep = B.Keep()
         self.names = [n for n, _, _ in instances]
         self.fmus = [f for _, f, _ in instances]
@@ -139,6 +143,9 @@ class _Plan:
         self.column_vars = [(self.fmus[i], v) for i, v in columns]
         self.string_columns = [k for k, (fmu, v) in enumerate(self.column_vars)
                                if fmu.variables[v][1] == STRING]
+        # a run can leave String values in the engine's table only through an FMU that
+        # has any (clearing it costs a short run a microsecond)
+        self.strings = any(v[1] == STRING for fmu in self.fmus for v in fmu.variables.values())
         self.columns = (B.Variable * max(1, len(columns)))(*[
             variable(self.names[i], v) for i, v in columns])
         self.column_state = keep.array(C.c_int, [
@@ -176,7 +183,10 @@ class _Plan:
             return
         merged = {name: {**c.values, **c.starts} for name, c in components.items()}
         f_values, i_values, t_values = self.start_arrays[0]
-        f_values[:len(floats)] = [merged[name][k] for name, k in floats]
+        if self.float_runs is None:
+            self.float_runs = _runs_by_member(floats)
+        for name, a, b, get in self.float_runs:  # a C loop per member, not a list per key
+            f_values[a:b] = get(merged[name])
         if ints:
             i_values[:len(ints)] = [int(merged[name][k]) for name, k in ints]
         if typed:
@@ -260,13 +270,17 @@ class _Plan:
             if self.loops:
                 spec.n_loops, spec.loop_first, spec.loop_count, spec.loop_name = (
                     len(self.loops), self.loop_first, self.loop_count, self.loop_name)
-        spec.n_times, spec.times, spec.out, spec.asleep_since, spec.taken_until = (
-            len(times), *pointers)
-        spec.stop_time, spec.tolerance, spec.method = stop_time, tolerance, METHODS[method]
-        spec.event_subsamples, spec.jacobian = event_subsamples, JACOBIANS[jacobian]
-        spec.max_step = step if self.capped else 0.0
-        stats = B.Stats()
-        lib.eng_strings_clear()  # String values of this run only (c/engine.h)
+        fields = (pointers, stop_time, tolerance, method, event_subsamples, jacobian, step)
+        if fields != self.spec_fields:  # (a run of the same call sets none: ~1.5 us)
+            spec.n_times, spec.times, spec.out, spec.asleep_since, spec.taken_until = (
+                len(times), *pointers)
+            spec.stop_time, spec.tolerance, spec.method = stop_time, tolerance, METHODS[method]
+            spec.event_subsamples, spec.jacobian = event_subsamples, JACOBIANS[jacobian]
+            spec.max_step = step if self.capped else 0.0
+            self.spec_fields = fields
+        stats = self.stats
+        if self.strings:
+            lib.eng_strings_clear()  # String values of this run only (c/engine.h)
         started = wallclock.perf_counter()
         with prog.sigint():
             run = lib.eng_simulate_me(C.byref(spec), C.byref(stats))
@@ -292,27 +306,28 @@ class _Plan:
         for k in self.string_columns:  # string-table indices as the text they are
             fmu, var = self.column_vars[k]
             table[self.labels[k]] = B.typed_column(lib, fmu, var, rows[:, k])
-        by = stats.terminated_by
+        f = B.stats_numbers(stats)
+        by = f["terminated_by"]
         until = dict(zip(self.names, taken.tolist()))
         settings = {
             "start_time": start_time, "stop_time": stop_time, "step": step,
             "tolerance": tolerance, "scheme": scheme,
             "method": method, "engine": "c", "wall_s": wall, "engine_s": wall,
-            "steps": stats.steps, "rejected": stats.rejected, "events": stats.events,
-            "rhs_calls": stats.rhs_calls, "jacobians": stats.jacobians,
-            "method_switches": stats.method_switches,
-            "jacobian_groups": stats.jacobian_groups,
-            "jacobian_evaluations": stats.jacobian_evaluations,
-            "jacobian_band": stats.jacobian_band,
+            "steps": f["steps"], "rejected": f["rejected"], "events": f["events"],
+            "rhs_calls": f["rhs_calls"], "jacobians": f["jacobians"],
+            "method_switches": f["method_switches"],
+            "jacobian_groups": f["jacobian_groups"],
+            "jacobian_evaluations": f["jacobian_evaluations"],
+            "jacobian_band": f["jacobian_band"],
             "algebraic_loops": [name for _, _, name in self.loops],
-            "loop_iterations": stats.loop_iterations, "loop_matrices": stats.loop_matrices,
-            "event_instances": stats.event_instances,
-            "jacobian": "directional derivatives" if stats.exact_jacobian
+            "loop_iterations": f["loop_iterations"], "loop_matrices": f["loop_matrices"],
+            "event_instances": f["event_instances"],
+            "jacobian": "directional derivatives" if f["exact_jacobian"]
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,
-            "at_rest_from": None if math.isinf(stats.at_rest_from) else stats.at_rest_from,
+            "at_rest_from": None if math.isinf(f["at_rest_from"]) else f["at_rest_from"],
             "asleep": {n: t for n, t in zip(self.names, asleep.tolist()) if math.isfinite(t)},
-            "event_subsamples": event_subsamples, "interrupted": stats.status == B.STOPPED,
+            "event_subsamples": event_subsamples, "interrupted": f["status"] == B.STOPPED,
             "event_location": "whole assembly" if self.indicator_start is None else "per instance",
             "set_at_events_only": list(self.deferred),
             # what the engine really took so (it refuses some and drops one whose read
@@ -321,10 +336,23 @@ class _Plan:
             "evaluated_as_linear_maps": [n for n in self.linear if not math.isnan(until[n])],
             "evaluated_until": {n: until[n] for n in self.from_time + self.linear
                                 if math.isfinite(until[n])},
-            "terminated": None if stats.status != B.TERMINATED else
-            {"instance": self.names[by] if by >= 0 else "", "time": stats.t_end,
+            "terminated": None if f["status"] != B.TERMINATED else
+            {"instance": self.names[by] if by >= 0 else "", "time": f["t_end"],
              "message": message}}
         return table, events, settings
+
+
+def _runs_by_member(keys: list[tuple[str, str]]) -> list[tuple[str, int, int, Callable]]:
+    """(member, first, end, getter) for each run of consecutive (member, name) keys: the
+    getter takes the member's values dict to the tuple of those names' values."""
+    runs, a = [], 0
+    for b in range(1, len(keys) + 1):
+        if b == len(keys) or keys[b][0] != keys[a][0]:
+            names = [k for _, k in keys[a:b]]
+            get = itemgetter(*names) if len(names) > 1 else (lambda d, k=names[0]: (d[k],))
+            runs.append((keys[a][0], a, b, get))
+            a = b
+    return runs
 
 
 _plans: dict = {}

@@ -48,3 +48,25 @@ def test_a_bad_argument_is_refused_when_preparing(mode):
         PREPARE[mode](asm, STOP, STEP, 2.0)
     with pytest.raises(AssemblyError, match="method must be one of"):
         PREPARE[mode](asm, STOP, STEP, 1e-6, method="Euler")
+
+
+@pytest.mark.parametrize("mode", list(PREPARE))
+def test_calls_of_one_plan_with_other_settings_keep_their_own(mode):
+    """Two prepared calls of one assembly share its plan (and the engine's description of
+    the run, whose per-run fields a call sets only where they changed): called in turn,
+    each runs its own stop time and tolerance, the exact solution to its tolerance, and
+    each result keeps its own counts after the other has run."""
+    asm = scene("stick_slip").build()
+    block = asm.component("block")
+    loose = PREPARE[mode](asm, STOP, STEP, 1e-5, record=["block.x"])
+    tight = PREPARE[mode](asm, STOP / 2, STEP / 2, 1e-10, record=["block.x"])
+    results = [call() for call in (loose, tight, loose, tight)]
+    for result, stop, step, tol in zip(results, [STOP, STOP / 2] * 2, [STEP, STEP / 2] * 2,
+                                       [1e-5, 1e-10] * 2):
+        times = np.asarray(result["time"])
+        assert times[-1] == pytest.approx(stop) and times[1] - times[0] == pytest.approx(step)
+        assert result.settings["tolerance"] == tol
+        assert np.max(np.abs(result["block.x"] - _exact(block, times))) < 1e3 * tol + 1e-8
+    assert results[0].settings["rhs_calls"] < results[1].settings["rhs_calls"]
+    assert results[0].settings["rhs_calls"] == results[2].settings["rhs_calls"]
+    assert results[1].settings["steps"] == results[3].settings["steps"]
