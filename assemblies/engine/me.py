@@ -270,7 +270,8 @@ class _Plan:
             if self.loops:
                 spec.n_loops, spec.loop_first, spec.loop_count, spec.loop_name = (
                     len(self.loops), self.loop_first, self.loop_count, self.loop_name)
-        fields = (pointers, stop_time, tolerance, method, event_subsamples, jacobian, step)
+        # the spec itself too: one made again (a changed plan) has none of them set
+        fields = (spec, pointers, stop_time, tolerance, method, event_subsamples, jacobian, step)
         if fields != self.spec_fields:  # (a run of the same call sets none: ~1.5 us)
             spec.n_times, spec.times, spec.out, spec.asleep_since, spec.taken_until = (
                 len(times), *pointers)
