@@ -160,32 +160,60 @@ class RunShape:
     linear_map: list           # per instance: 1 where it evaluates it as a linear map
 
 
-_shapes: OrderedDict = OrderedDict()
+@dataclass
+class _Structure:
+    """A structure's checked couplings, and its RunShape per set of prepared FMUs."""
+    couplings: list
+    shapes: dict  # ids of the prepared FMUs -> RunShape (which holds them: ids stay theirs)
+
+
+_shapes: OrderedDict = OrderedDict()  # (structure_key, signals_from_outside) -> _Structure
 _shapes_lock = threading.Lock()
 SHAPES_KEPT = 64  # a sweep over many assemblies keeps the latest, not all
+FMU_SETS_KEPT = 4  # per structure (a set changes only where an FMU was built again)
 
 
-def run_shape(assembly: Assembly, fmus: dict) -> RunShape:
-    """The run's structure, memoised by the assembly's structure_key (names, binaries,
-    profiles, connections) and its prepared FMUs: a scene run again with new values built
-    it again each time, 1 of the 2.2 ms two_block_belt's call spent outside the C (26 ms
-    in all at tol 1e-4). The assembly's profiles are resolved (the key holds them)."""
-    key = (structure_key(assembly), assembly.signals_from_outside,
-           tuple(id(f) for f in fmus.values()))  # the entry holds the FMUs: ids stay theirs
+def checked_couplings(assembly: Assembly) -> tuple[tuple, list]:
+    """(the structure's key, the assembly's couplings): checked on the first run of a
+    structure (an input fed twice is named there, before any FMU is built), then
+    memoised by the assembly's structure_key (names, binaries, profiles, connections).
+    The assembly's profiles are resolved (the key holds them)."""
+    key = (structure_key(assembly), assembly.signals_from_outside)
     with _shapes_lock:
-        shape = _shapes.get(key)
-        if shape is not None:
+        known = _shapes.get(key)
+        if known is not None:
             _shapes.move_to_end(key)
-            return shape
+            return key, known.couplings
     couplings = assembly.couplings()
+    with _shapes_lock:
+        _shapes.setdefault(key, _Structure(couplings, {}))
+        while len(_shapes) > SHAPES_KEPT:
+            _shapes.popitem(last=False)
+    return key, couplings
+
+
+def run_shape(assembly: Assembly, fmus: dict, key: tuple | None = None) -> RunShape:
+    """The run's structure, memoised by `key` (checked_couplings') and the prepared FMUs:
+    a scene run again with new values built it again each time, 1 of the 2.2 ms
+    two_block_belt's call spent outside the C (26 ms in all at tol 1e-4)."""
+    if key is None:
+        key, _ = checked_couplings(assembly)
+    ids = tuple(id(f) for f in fmus.values())
+    with _shapes_lock:
+        known = _shapes.get(key)
+        shape = known.shapes.get(ids) if known is not None else None
+    if shape is not None:
+        return shape
+    couplings = known.couplings if known is not None else assembly.couplings()
     names = list(assembly.components)
     shape = RunShape(couplings, coupling_plan(assembly, fmus), rest_groups(names, couplings, fmus),
                      evaluated_members(assembly, fmus, [], couplings, False, cosim=True),
                      evaluated_members(assembly, fmus, [], couplings, True, cosim=True))
     with _shapes_lock:
-        _shapes[key] = shape
-        while len(_shapes) > SHAPES_KEPT:
-            _shapes.popitem(last=False)
+        known = _shapes.setdefault(key, _Structure(couplings, {}))
+        if len(known.shapes) >= FMU_SETS_KEPT:
+            known.shapes.clear()
+        known.shapes[ids] = shape
     return shape
 
 
@@ -241,6 +269,8 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
     check_mode(assembly, "cosim")  # a Model-Exchange-only FMU: named, with the modes that apply
     setup = wallclock.perf_counter()
     assembly.resolve_causality()  # the profiles the FMUs and the run's shape are of
+    # a wiring mistake is named before any FMU is built
+    structure, _ = checked_couplings(assembly)
     names = list(assembly.components)
     fmus = {n: prepared(assembly.components[n]) for n in names}
     _lib()  # compiled on a machine's first run: setup, like the FMUs
@@ -256,7 +286,7 @@ def cosimulate(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         warnings.warn(fallback, FixedStepFallback, stacklevel=2)
         adaptive = event_sync = False
 
-    shape = run_shape(assembly, fmus)
+    shape = run_shape(assembly, fmus, structure)
     couplings, plan = shape.couplings, shape.plan
     groups, loops = plan.groups, plan.loops
 
@@ -394,5 +424,5 @@ def _failure(stats, cstats, couplings, groups, newton, max_iterations) -> str:
     return f"at t = {cstats.loop_failed_time:g}: {text}"
 
 
-__all__ = ["DEFAULT_SCHEME", "CouplingPlan", "FixedStepFallback", "RunShape", "coupling_plan",
-           "cosimulate", "run_shape"]
+__all__ = ["DEFAULT_SCHEME", "CouplingPlan", "FixedStepFallback", "RunShape",
+           "checked_couplings", "coupling_plan", "cosimulate", "run_shape"]

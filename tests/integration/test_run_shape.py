@@ -4,6 +4,7 @@ new values reuse it, a new wiring or option never does, and the memo stays bound
 Checked on a mass hung by a spring from a constant-speed drive, against the closed form of
 its oscillation relative to the drive, y = y0 cos(w t) + (y0' / w) sin(w t)."""
 import numpy as np
+import pytest
 
 import assemblies.engine.cosim as engine_cosim
 from assemblies import Assembly
@@ -81,3 +82,22 @@ def test_the_memo_keeps_the_latest_shapes_only():
     # the oldest went first: asking again builds it anew, equal to what it was
     again = _shape(_hung("belt", name="hung_shape_0"))
     assert again.plan.pairs == _shape(first).plan.pairs
+
+
+def test_a_wiring_mistake_is_named_before_any_fmu_is_built(monkeypatch):
+    """An input fed twice is refused from the couplings, before the FMUs are prepared
+    (building them can take minutes on a cold cache)."""
+    from assemblies import AssemblyError
+    from components import PositionSensor
+
+    asm = Assembly("fed_twice_shape")
+    asm.add("belt", ConstantSpeed(v=0.5))
+    asm.add("lift", ConstantSpeed(v=0.3))
+    asm.add("sensor", PositionSensor())
+    asm.connect("belt.flange", "sensor.flange")
+    asm.connect("lift.flange", "sensor.flange")
+    built = []
+    monkeypatch.setattr(engine_cosim, "prepared", lambda c: built.append(c) or prepared(c))
+    with pytest.raises(AssemblyError, match=r"input sensor\.flange\.s is fed twice"):
+        cosimulate(asm, 1.0, 0.1)
+    assert built == []
