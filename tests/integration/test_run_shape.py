@@ -49,8 +49,10 @@ def _shape(asm):
 def test_new_values_reuse_the_shape_and_a_new_wiring_does_not():
     for drive, c in (("belt", 8.0), ("belt", 18.0), ("lift", 8.0)):
         result = _run(_hung(drive, c))
+        # within the adaptive master's tolerance (3.5e-5 to 4.7e-5 off, measured); the
+        # other drive's motion would be metres off
         np.testing.assert_allclose(result["mass.s"], _closed_form(result["time"], drive, c),
-                                   rtol=0, atol=5 * TOL, err_msg=f"{drive}, c = {c}")
+                                   rtol=0, atol=TOL, err_msg=f"{drive}, c = {c}")
     belt, stiffer, lift = _shape(_hung("belt")), _shape(_hung("belt", 18.0)), _shape(_hung("lift"))
     assert stiffer is belt  # values are set per run
     assert lift is not belt
