@@ -66,7 +66,9 @@ def test_calls_of_one_plan_with_other_settings_keep_their_own(mode):
         times = np.asarray(result["time"])
         assert times[-1] == pytest.approx(stop) and times[1] - times[0] == pytest.approx(step)
         assert result.settings["tolerance"] == tol
-        assert np.max(np.abs(result["block.x"] - _exact(block, times))) < 1e3 * tol + 1e-8
+        # 4.8 and 1.2 times the tolerance measured: the solver's local tolerance over the
+        # slips; a call run with the other's tolerance is 4e5 times off or costs the same
+        assert np.max(np.abs(result["block.x"] - _exact(block, times))) < 10 * tol
     assert results[0].settings["rhs_calls"] < results[1].settings["rhs_calls"]
     assert results[0].settings["rhs_calls"] == results[2].settings["rhs_calls"]
     assert results[1].settings["steps"] == results[3].settings["steps"]
