@@ -67,8 +67,8 @@ def test_calls_of_one_plan_with_other_settings_keep_their_own(mode):
         assert times[-1] == pytest.approx(stop) and times[1] - times[0] == pytest.approx(step)
         assert result.settings["tolerance"] == tol
         # 4.8 and 1.2 times the tolerance measured: the solver's local tolerance over the
-        # slips; the tight call run at the loose tolerance would be 5e5 times off (and the loose one at
-        # the tight tolerance costs as much, which the rhs_calls check below refuses)
+        # slips. The tight call run at the loose tolerance would be 5e5 times off; the
+        # loose one at the tight tolerance, as dear as the tight (rhs_calls, below)
         assert np.max(np.abs(result["block.x"] - _exact(block, times))) < 10 * tol
     assert results[0].settings["rhs_calls"] < results[1].settings["rhs_calls"]
     assert results[0].settings["rhs_calls"] == results[2].settings["rhs_calls"]
