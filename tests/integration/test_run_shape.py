@@ -56,7 +56,8 @@ def test_new_values_reuse_the_shape_and_a_new_wiring_does_not():
     belt, stiffer, lift = _shape(_hung("belt")), _shape(_hung("belt", 18.0)), _shape(_hung("lift"))
     assert stiffer is belt  # values are set per run
     assert lift is not belt
-    assert [c.source[0] for c in lift.couplings if c.target == ("spring", "flange_a.s")] == ["lift"]
+    feeds = [c.source[0] for c in lift.couplings if c.target == ("spring", "flange_a.s")]
+    assert feeds == ["lift"]
 
 
 def test_an_option_is_part_of_the_shape_and_a_setting_is_not():
