@@ -143,6 +143,16 @@ def build_lock(target: Path) -> Iterator[None]:
         yield
 
 
+def build_once(target: Path, build: Callable[[], None]) -> None:
+    """build() where `target` is not in the cache yet, under its build_lock, unless
+    another process built it while this one waited."""
+    if target.exists():
+        return
+    with build_lock(target):
+        if not target.exists():
+            build()
+
+
 def token_from_digest(digest: str) -> str:
     """A GUID-shaped instantiation token from a hex content digest: the same content,
     the same token."""
@@ -164,16 +174,17 @@ def cached_library(folder: str, stem: str, sources: list[Path], include_dirs: li
         # loading a damaged library crashes the process (SIGBUS), so it is never trusted
         integrity.report(target, f"library of {what}", announce)
         integrity.discard(target)
-    if not target.exists():
-        with build_lock(target):
-            if not target.exists():  # (else another process built it meanwhile)
-                if announce:  # seconds of gcc: a first run says why it is slow
-                    announce(f"compiling {what} (once per machine)")
-                partial = target.with_suffix(f".{os.getpid()}.partial")
-                compile_library([p for p in sources if p.suffix == ".c"], partial,
-                                include_dirs, what, defines)
-                integrity.record(target, partial)
-                partial.replace(target)  # atomic: a parallel build never loads half a library
+
+    def build():
+        if announce:  # seconds of gcc: a first run says why it is slow
+            announce(f"compiling {what} (once per machine)")
+        partial = target.with_suffix(f".{os.getpid()}.partial")
+        compile_library([p for p in sources if p.suffix == ".c"], partial, include_dirs, what,
+                        defines)
+        integrity.record(target, partial)
+        partial.replace(target)  # atomic: a parallel build never loads half a library
+
+    build_once(target, build)
     return target
 
 
@@ -280,14 +291,14 @@ def fetch_fmu(component: Component, fmi_version: int = DEFAULT_FMI, tolerance: f
     token = token_from_digest(digest)
     cached = cache_dir() / "fmus" / f"{identifier}-fmi{fmi_version}-{digest[:16]}.fmu"
     _drop_if_damaged(cached)
-    if not cached.exists():
-        with build_lock(cached):
-            if not cached.exists():  # (else another process built it meanwhile)
-                if announce:
-                    announce(f"building the FMU of {identifier} (FMI {fmi_version}, once per "
-                             "machine)")
-                _compile(identifier, c_source.replace("@TOKEN@", token),
-                         xml.replace("@TOKEN@", token), cached, fmi_version, html)
+
+    def build():
+        if announce:
+            announce(f"building the FMU of {identifier} (FMI {fmi_version}, once per machine)")
+        _compile(identifier, c_source.replace("@TOKEN@", token), xml.replace("@TOKEN@", token),
+                 cached, fmi_version, html)
+
+    build_once(cached, build)
     facts = model_facts(model)
     recipes().update(key, fmu=cached.name, facts=facts)
     return BuiltFmu(cached, facts)

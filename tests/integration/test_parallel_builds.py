@@ -1,5 +1,5 @@
 """Two processes asking for the same FMU on a cold cache build it once: the second waits
-for the first's (fmus.build.build_lock) instead of compiling it too, as pytest-xdist and
+for the first's (fmus.build.build_once) instead of compiling it too, as pytest-xdist and
 Dask workers do on a fresh machine."""
 import os
 import subprocess
