@@ -186,10 +186,17 @@ def checked_couplings(assembly: Assembly) -> tuple[tuple, list]:
             return key, known.couplings
     couplings = assembly.couplings()
     with _shapes_lock:
-        _shapes.setdefault(key, _Structure(couplings, {}))
-        while len(_shapes) > SHAPES_KEPT:
-            _shapes.popitem(last=False)
+        _remember(key, couplings)
     return key, couplings
+
+
+def _remember(key: tuple, couplings: list) -> _Structure:
+    """The memo's entry for `key`, added with `couplings` where it is not there (or was
+    dropped meanwhile), the oldest dropped past SHAPES_KEPT. Under _shapes_lock."""
+    known = _shapes.setdefault(key, _Structure(couplings, {}))
+    while len(_shapes) > SHAPES_KEPT:
+        _shapes.popitem(last=False)
+    return known
 
 
 def run_shape(assembly: Assembly, fmus: dict, key: tuple | None = None) -> RunShape:
@@ -210,7 +217,7 @@ def run_shape(assembly: Assembly, fmus: dict, key: tuple | None = None) -> RunSh
                      evaluated_members(assembly, fmus, [], couplings, False, cosim=True),
                      evaluated_members(assembly, fmus, [], couplings, True, cosim=True))
     with _shapes_lock:
-        known = _shapes.setdefault(key, _Structure(couplings, {}))
+        known = _remember(key, couplings)
         if len(known.shapes) >= FMU_SETS_KEPT:
             known.shapes.clear()
         known.shapes[ids] = shape

@@ -291,15 +291,16 @@ class _Plan:
         finally:
             lib.eng_run_free(run)
         prog.reraise()
+        f = B.stats_numbers(stats)
         message = stats.message.decode("utf-8", "replace")
-        if stats.status == B.FAILED:
+        if f["status"] == B.FAILED:
             raise B.EngineError(f"assembly '{name}': {message}")
         note = stats.jacobian_note.decode("utf-8", "replace")
         if note:
             warnings.warn(f"assembly '{name}': {note}; the run takes finite differences "
                           "(jacobian='exact' insists, 'fd' skips the check)", JacobianFallback,
                           stacklevel=4)
-        n = stats.n_rows
+        n = f["n_rows"]
         rows = out[:n].copy()  # the buffers serve the plan's next run
         table = {"time": times[:n].copy()}
         for k, column in enumerate(self.labels):
@@ -307,7 +308,6 @@ class _Plan:
         for k in self.string_columns:  # string-table indices as the text they are
             fmu, var = self.column_vars[k]
             table[self.labels[k]] = B.typed_column(lib, fmu, var, rows[:, k])
-        f = B.stats_numbers(stats)
         by = f["terminated_by"]
         until = dict(zip(self.names, taken.tolist()))
         settings = {
