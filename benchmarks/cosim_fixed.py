@@ -13,13 +13,14 @@ tolerance 1e-4.
 Every run is the compiled engine's master called on the scene's pruned assembly (what
 ``run_scene`` runs, without evaluating the figures), FMUs built and loaded by an untimed
 first call. Fixed steps are h = step / n (n = 1, 2, 3, 4, 6, 8, …; the same extrapolation
-as the adaptive runs, ``--extrapolation``, by default DEFAULT_SCHEME's), their rows at every n-th step compared; n stops growing once a run is far
-dearer than every co-simulation run. The error is :func:`benchmarks.joined.deviation`
-against the composite FMU at 1e-12. Times are process CPU times (the benchmark's own
-heap frozen out of the garbage collector, :func:`benchmarks.chain.cpu_seconds`), taken
-round-robin over every run of a scene ``--repeats`` times (the machine is shared): the
-median, with the spread (max - min) / median; each ratio with its range over the repeats (the extremes of
-one run's times over the other's). "doSteps per step" counts: doSteps over communication
+as the adaptive runs, ``--extrapolation``, by default DEFAULT_SCHEME's), their rows at
+every n-th step compared; n stops growing once a run is far dearer than every
+co-simulation run. The error is :func:`benchmarks.joined.deviation` against the
+composite FMU at 1e-12. Times are process CPU times (the benchmark's own heap frozen out
+of the garbage collector, :func:`benchmarks.chain.cpu_seconds`), taken round-robin over
+every run of a scene ``--repeats`` times (the machine is shared): the median, with the
+spread (max - min) / median; each ratio with its range over the repeats (the extremes
+of one run's times over the other's). "doSteps per step" counts: doSteps over communication
 steps tried (accepted and rejected) and instances, 1 for a fixed step, 3 for step
 doubling, less where unjudged steps follow an accepted estimate (COAST_STEPS, growing
 to COAST_MAX while the error is steady, in assemblies/masters/adaptive.py) and where
