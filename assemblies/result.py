@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -91,12 +92,30 @@ class Result(Table):
         self.events = events or {}
         self.settings = settings or {}
 
+    @property
+    def settings(self) -> dict:
+        """How the run went: its solver, tolerance, step counts, wall time..."""
+        settings = self._settings
+        if callable(settings):  # of_columns' maker, called once, when first read
+            settings = self._settings = settings()
+        return settings
+
+    @settings.setter
+    def settings(self, value: dict) -> None:
+        self._settings = value
+
+    def __getstate__(self):
+        # a maker is a closure, which pickle (dask's engine) and copy cannot take
+        return {**self.__dict__, "_settings": self.settings}
+
     @classmethod
     def of_columns(cls, columns: dict[str, np.ndarray], events: dict[str, Table],
-                   settings: dict) -> "Result":
+                   settings: dict | Callable[[], dict]) -> "Result":
         """A result of columns that are already what a Table holds (float arrays, object
         arrays of text), taken as they are: an engine run's, whose conversion one by one
-        cost a short run a microsecond or two."""
+        cost a short run a microsecond or two. `settings` may be a function that makes
+        them: it is called when they are first read (a parameter study's runs mostly
+        never read them, and their dict costs a short run ~5 us)."""
         result = cls.__new__(cls)
-        result._columns, result.events, result.settings = columns, events, settings
+        result._columns, result.events, result._settings = columns, events, settings
         return result

@@ -186,13 +186,17 @@ class Masters:
             raise RuntimeError(f"co-simulation gave {len(values)} rows for {len(times)} times")
         return values, None, None
 
-    def engine(self, times, tol, mode="me"):
+    def engine(self, times, tol, mode="me", count=True):
         """The compiled engine's run of the assembly (`me`: its Model Exchange FMUs in one
         integrator; `monolithic`: the one composite FMU), called as a user calls it: no
-        build memo, the FMUs already built by an earlier (untimed) call in this process."""
+        build memo, the FMUs already built by an earlier (untimed) call in this process.
+        count=False leaves the settings unread, as a user who wants the values does (they
+        are made when first read: Result.settings)."""
         from assemblies.engine import me as engine
         simulate = engine.simulate_me if mode == "me" else engine.simulate_monolithic
         res = simulate(self.assembly, times[-1], times[1] - times[0], tol, record=[self.column])
+        if not count:
+            return np.asarray(res[self.column]), None, None
         return (np.asarray(res[self.column]), res.settings.get("rhs_calls"),
                 res.settings.get("steps"))
 

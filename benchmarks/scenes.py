@@ -59,9 +59,9 @@ def _our_methods(fmu: SingleFmu | None, masters: Masters | None, times, smooth: 
             methods["casadi_cvodes"] = lambda tol, count: fmu.casadi(times, tol)
     if masters is not None:
         if engine_missing() is None:
-            methods["engine_me"] = lambda tol, count: masters.engine(times, tol, "me")
+            methods["engine_me"] = lambda tol, count: masters.engine(times, tol, "me", count)
             methods["engine_monolithic"] = (
-                lambda tol, count: masters.engine(times, tol, "monolithic"))
+                lambda tol, count: masters.engine(times, tol, "monolithic", count))
         methods["master_me"] = lambda tol, count: masters.me(times, tol)
         methods["master_monolithic"] = lambda tol, count: masters.monolithic(times, tol)
     return methods

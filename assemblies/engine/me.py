@@ -292,15 +292,18 @@ class _Plan:
             lib.eng_run_free(run)
         prog.reraise()
         f = B.stats_numbers(stats)
-        message = stats.message.decode("utf-8", "replace")
-        if f["status"] == B.FAILED:
+        status = f.status
+        message = stats.message.decode("utf-8", "replace") if status in (B.FAILED, B.TERMINATED) \
+            else ""  # (only those two keep it)
+        if status == B.FAILED:
             raise B.EngineError(f"assembly '{name}': {message}")
-        note = stats.jacobian_note.decode("utf-8", "replace")
+        note = stats.jacobian_note
+        note = note.decode("utf-8", "replace") if note else ""
         if note:
             warnings.warn(f"assembly '{name}': {note}; the run takes finite differences "
                           "(jacobian='exact' insists, 'fd' skips the check)", JacobianFallback,
                           stacklevel=4)
-        n = f["n_rows"]
+        n = f.n_rows
         rows = out[:n].copy()  # the buffers serve the plan's next run
         table = {"time": times[:n].copy()}
         for k, column in enumerate(self.labels):
@@ -308,27 +311,37 @@ class _Plan:
         for k in self.string_columns:  # string-table indices as the text they are
             fmu, var = self.column_vars[k]
             table[self.labels[k]] = B.typed_column(lib, fmu, var, rows[:, k])
-        by = f["terminated_by"]
-        until = dict(zip(self.names, taken.tolist()))
-        settings = {
+        # the settings are made when first read (Result.settings): their dict costs a
+        # short run ~5 us, and a parameter study's runs mostly never read them; what
+        # they take from the plan's buffers is copied now, before its next run
+        run_of = (start_time, stop_time, step, tolerance, scheme, method, wall, jacobian,
+                  event_subsamples, f, message, note, asleep.tolist(), taken.tolist())
+        return table, events, lambda: self._settings(*run_of)
+
+    def _settings(self, start_time, stop_time, step, tolerance, scheme, method, wall, jacobian,
+                  event_subsamples, f, message, note, asleep, taken) -> dict:
+        """A run's settings (Result.settings) from what run kept of it."""
+        by = f.terminated_by
+        until = dict(zip(self.names, taken))
+        return {
             "start_time": start_time, "stop_time": stop_time, "step": step,
             "tolerance": tolerance, "scheme": scheme,
             "method": method, "engine": "c", "wall_s": wall, "engine_s": wall,
-            "steps": f["steps"], "rejected": f["rejected"], "events": f["events"],
-            "rhs_calls": f["rhs_calls"], "jacobians": f["jacobians"],
-            "method_switches": f["method_switches"],
-            "jacobian_groups": f["jacobian_groups"],
-            "jacobian_evaluations": f["jacobian_evaluations"],
-            "jacobian_band": f["jacobian_band"],
+            "steps": f.steps, "rejected": f.rejected, "events": f.events,
+            "rhs_calls": f.rhs_calls, "jacobians": f.jacobians,
+            "method_switches": f.method_switches,
+            "jacobian_groups": f.jacobian_groups,
+            "jacobian_evaluations": f.jacobian_evaluations,
+            "jacobian_band": f.jacobian_band,
             "algebraic_loops": [name for _, _, name in self.loops],
-            "loop_iterations": f["loop_iterations"], "loop_matrices": f["loop_matrices"],
-            "event_instances": f["event_instances"],
-            "jacobian": "directional derivatives" if f["exact_jacobian"]
+            "loop_iterations": f.loop_iterations, "loop_matrices": f.loop_matrices,
+            "event_instances": f.event_instances,
+            "jacobian": "directional derivatives" if f.exact_jacobian
             else "finite differences",
             "jacobian_setting": jacobian, "jacobian_note": note or None,
-            "at_rest_from": None if math.isinf(f["at_rest_from"]) else f["at_rest_from"],
-            "asleep": {n: t for n, t in zip(self.names, asleep.tolist()) if math.isfinite(t)},
-            "event_subsamples": event_subsamples, "interrupted": f["status"] == B.STOPPED,
+            "at_rest_from": None if math.isinf(f.at_rest_from) else f.at_rest_from,
+            "asleep": {n: t for n, t in zip(self.names, asleep) if math.isfinite(t)},
+            "event_subsamples": event_subsamples, "interrupted": f.status == B.STOPPED,
             "event_location": "whole assembly" if self.indicator_start is None else "per instance",
             "set_at_events_only": list(self.deferred),
             # what the engine really took so (it refuses some and drops one whose read
@@ -337,10 +350,9 @@ class _Plan:
             "evaluated_as_linear_maps": [n for n in self.linear if not math.isnan(until[n])],
             "evaluated_until": {n: until[n] for n in self.from_time + self.linear
                                 if math.isfinite(until[n])},
-            "terminated": None if f["status"] != B.TERMINATED else
-            {"instance": self.names[by] if by >= 0 else "", "time": f["t_end"],
+            "terminated": None if f.status != B.TERMINATED else
+            {"instance": self.names[by] if by >= 0 else "", "time": f.t_end,
              "message": message}}
-        return table, events, settings
 
 
 def _runs_by_member(keys: list[tuple[str, str]]) -> list[tuple[str, int, int, Callable]]:
@@ -658,18 +670,18 @@ def prepare_me(assembly: Assembly, stop_time: float, step: float, tolerance: flo
         started = wallclock.perf_counter()
         with plan.lock:
             plan.set_starts([c.fmu_starts() for c in components.values()])
-            table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
-                                               integrator(assembly, method), progress,
-                                               event_subsamples, "me", jacobian, start_time)
+            table, events, described = plan.run(assembly.name, stop_time, step, tolerance,
+                                                integrator(assembly, method), progress,
+                                                event_subsamples, "me", jacobian, start_time)
         tables = {plan.names[i]: Table({name: B.typed_column(_engine(), plan.fmus[i], v,
                                                              rows[:, j])
                                         for j, (name, v) in enumerate(
                                             [("time", None)]
                                             + [(f"{plan.names[i]}.{v}", v) for v in outputs])})
                   for (i, _, _, outputs), rows in zip(plan.groups, events) if len(rows)}
-        settings["wall_s"] = wallclock.perf_counter() - started
-        settings["setup_s"] = setup_s
-        return Result.of_columns(table, tables, settings)
+        wall = wallclock.perf_counter() - started
+        return Result.of_columns(table, tables, lambda: dict(described(), wall_s=wall,
+                                                               setup_s=setup_s))
     return run
 
 
@@ -753,16 +765,19 @@ def prepare_monolithic(assembly: Assembly, stop_time: float, step: float,
         started = wallclock.perf_counter()
         with plan.lock:
             plan.set_member_starts(components)
-            table, events, settings = plan.run(assembly.name, stop_time, step, tolerance,
-                                               integrator(assembly, method), progress,
-                                               event_subsamples, "monolithic", jacobian,
-                                               start_time)
+            table, events, described = plan.run(assembly.name, stop_time, step, tolerance,
+                                                integrator(assembly, method), progress,
+                                                event_subsamples, "monolithic", jacobian,
+                                                start_time)
         tables = {member: Table.from_array(["time"] + outputs, rows)
                   for member, (_, _, _, outputs), rows in zip(plan.members, plan.groups, events)
                   if len(rows)}
-        settings["terminated"] = member_termination(settings["terminated"],
-                                                    plan.layout.terminate, "assembly")
-        settings["wall_s"] = wallclock.perf_counter() - started
-        settings["setup_s"] = setup_s
+        wall = wallclock.perf_counter() - started
+
+        def settings():
+            s = described()
+            s["terminated"] = member_termination(s["terminated"], plan.layout.terminate,
+                                                 "assembly")
+            return dict(s, wall_s=wall, setup_s=setup_s)
         return Result.of_columns(table, tables, settings)
     return run

@@ -73,3 +73,24 @@ def test_calls_of_one_plan_with_other_settings_keep_their_own(mode):
     assert results[0].settings["rhs_calls"] < results[1].settings["rhs_calls"]
     assert results[0].settings["rhs_calls"] == results[2].settings["rhs_calls"]
     assert results[1].settings["steps"] == results[3].settings["steps"]
+
+
+@pytest.mark.parametrize("mode", list(PREPARE))
+def test_settings_read_after_the_next_call_are_still_their_own(mode):
+    """A result's settings are made when first read (Result.settings), from what its run
+    kept: read after the plan's next run (which reuses its buffers and statistics), they
+    are the counts of their own run, as a run with those parameters reads them at once."""
+    keys = ("steps", "events", "rhs_calls", "rejected", "stop_time")
+    asm = scene("stick_slip").build()
+    block = asm.component("block")
+    run = PREPARE[mode](asm, STOP, STEP, 1e-9, record=["block.x"])
+    first = run()  # settings not read yet
+    mu_k = block.values["mu_k"]
+    block.set("mu_k", 0.2)
+    second = run()
+    second_counts = [second.settings[k] for k in keys]
+    first_counts = [first.settings[k] for k in keys]
+    block.set("mu_k", mu_k)
+    again = PREPARE[mode](asm, STOP, STEP, 1e-9, record=["block.x"])()
+    assert [again.settings[k] for k in keys] == first_counts
+    assert first_counts != second_counts  # the two runs differ, so a mix-up would show
