@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "arena.h"
 #include "engine.h"
 #include "events.h"
 #include "instances.h"
@@ -173,6 +174,7 @@ typedef struct {
     /* why the last call failed; the run's error if it cannot go on (inside a step the
        solver may still recover by trying a shorter one) */
     char message[sizeof(((eng_stats *)0)->message)];
+    eng_arena arena;      /* the arrays allocate takes, given back together by release */
 } me_master;
 
 /* --- failures --------------------------------------------------------------- */
@@ -1742,30 +1744,33 @@ static int integrate(me_master *M)
     return 0;
 }
 
-static double *zeros(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
+/* n zeroed elements for the run (me_master.arena), freed by release */
+static void *zeroed(me_master *M, size_t n, size_t size)
+{
+    return eng_arena_take(&M->arena, n, size);
+}
+
+static double *zeros(me_master *M, int n)
+{
+    return zeroed(M, (size_t)(n > 0 ? n : 1), sizeof(double));
+}
 
 static const eng_coupling *live(const me_master *M, const coupling_plan *P, int p)
 {
     return &M->spec->couplings[P->live[p]];
 }
 
-static int plan_allocate(coupling_plan *P, int n_couplings)
+static int plan_allocate(me_master *M, coupling_plan *P, int n_couplings)
 {
     size_t n = (size_t)n_couplings + 1;
-    P->live = calloc(n, sizeof(int));
-    P->segment_end = calloc(n, sizeof(int));
-    P->run_end = calloc(n, sizeof(int));
-    P->write_order = calloc(n, sizeof(int));
-    P->source_vr = calloc(n, sizeof(uint32_t));
-    P->loop = calloc(n, sizeof(int));
+    P->live = zeroed(M, n, sizeof(int));
+    P->segment_end = zeroed(M, n, sizeof(int));
+    P->run_end = zeroed(M, n, sizeof(int));
+    P->write_order = zeroed(M, n, sizeof(int));
+    P->source_vr = zeroed(M, n, sizeof(uint32_t));
+    P->loop = zeroed(M, n, sizeof(int));
     return P->live && P->segment_end && P->run_end && P->write_order && P->source_vr && P->loop
                ? 0 : -1;
-}
-
-static void plan_free(coupling_plan *P)
-{
-    free(P->live); free(P->segment_end); free(P->run_end); free(P->write_order);
-    free(P->source_vr); free(P->loop);
 }
 
 /* Segments, runs and write order (see couple) of the couplings with needed[i] (every
@@ -1847,8 +1852,8 @@ static int plan_rows(me_master *M)
 {
     const eng_me_spec *s = M->spec;
     int i, p;
-    M->row_instance = calloc((size_t)M->n + 1, sizeof(int));
-    if (!M->row_instance || plan_allocate(&M->rows, s->n_couplings)) return -1;
+    M->row_instance = zeroed(M, (size_t)M->n + 1, sizeof(int));
+    if (!M->row_instance || plan_allocate(M, &M->rows, s->n_couplings)) return -1;
     if (!s->row_coupling) return 0;
     if (plan_couplings(M, &M->rows, s->row_coupling)) return -1;
     for (i = 0; i < s->n_columns; i++) M->row_instance[s->columns[i].instance] = 1;
@@ -1866,19 +1871,19 @@ static int plan_local(me_master *M)
     int i, a, p, total = 0, located = 0, *mask, *mark;
     double own = 0.0, whole;
     if (!s->indicator_start) return 0;
-    M->local = calloc((size_t)M->n, sizeof(coupling_plan));
-    M->local_start = calloc((size_t)M->n + 1, sizeof(int));
+    M->local = zeroed(M, (size_t)M->n, sizeof(coupling_plan));
+    M->local_start = zeroed(M, (size_t)M->n + 1, sizeof(int));
     mask = calloc((size_t)s->n_couplings + 1, sizeof(int));
     mark = calloc((size_t)M->n + 1, sizeof(int));
     if (!M->local || !M->local_start || !mask || !mark) goto fail;
     for (i = 0; i < M->n; i++)
         total += 1 + s->indicator_start[i + 1] - s->indicator_start[i];
-    M->local_instance = calloc((size_t)total + 1, sizeof(int));
+    M->local_instance = zeroed(M, (size_t)total + 1, sizeof(int));
     if (!M->local_instance) goto fail;
     for (i = 0; i < M->n; i++) {
         const int first = s->indicator_start[i], count = s->indicator_start[i + 1] - first;
         int n_inst = M->local_start[i];
-        if (plan_allocate(&M->local[i], count)) goto fail;
+        if (plan_allocate(M, &M->local[i], count)) goto fail;
         for (a = first; a < first + count; a++) mask[s->indicator_coupling[a]] = 1;
         /* planning scans every coupling: only for the instances whose indicators read
            some (a chain's links and belts read none: two thirds of n x couplings) */
@@ -1907,7 +1912,7 @@ static int plan_local(me_master *M)
        instances' own (their instances moved, their plans' couplings, their indicators) */
     whole = (double)M->n + M->between.n_live + located;
     M->shared_from = located > 0 ? (int)fmax(2.0, ceil(whole / (own / located))) : INT_MAX;
-    M->shared_z = calloc((size_t)SHARED_SLOTS * (size_t)M->n_z + 1, sizeof(double));
+    M->shared_z = zeroed(M, (size_t)SHARED_SLOTS * (size_t)M->n_z + 1, sizeof(double));
     return M->shared_z ? 0 : -1;
 fail:
     free(mask);
@@ -1918,7 +1923,7 @@ fail:
 static int plan_set_again(me_master *M)
 {
     int i;
-    M->set_again = calloc((size_t)M->n + 1, sizeof(int));
+    M->set_again = zeroed(M, (size_t)M->n + 1, sizeof(int));
     if (!M->set_again) return -1;
     for (i = 0; i < M->n; i++) {
         M->set_again[i] = M->spec->instances[i].foreign &&
@@ -1935,10 +1940,10 @@ static int allocate_loops(me_master *M)
     const eng_me_spec *s = M->spec;
     int i, k;
     M->loop_min_steps = 1;
-    M->loop_of = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->members = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->loops = calloc((size_t)s->n_loops + 1, sizeof(eng_loop));
-    M->loop_dd = calloc((size_t)s->n_loops + 1, sizeof(int));
+    M->loop_of = zeroed(M, (size_t)s->n_couplings + 1, sizeof(int));
+    M->members = zeroed(M, (size_t)s->n_couplings + 1, sizeof(int));
+    M->loops = zeroed(M, (size_t)s->n_loops + 1, sizeof(eng_loop));
+    M->loop_dd = zeroed(M, (size_t)s->n_loops + 1, sizeof(int));
     if (!M->loop_of || !M->members || !M->loops || !M->loop_dd) return -1;
     for (i = 0; i < s->n_couplings; i++) {
         M->loop_of[i] = -1;
@@ -1967,18 +1972,18 @@ static int allocate_linear(me_master *M)
     const int n = M->n, nc = s->n_couplings;
     int i, k, a;
     size_t total = 0;
-    M->linear = calloc((size_t)n + 1, sizeof(int));
-    M->lin_in_start = calloc((size_t)n + 1, sizeof(int));
-    M->lin_in = calloc((size_t)nc + 1, sizeof(int));
-    M->lin_row = calloc((size_t)nc + 1, sizeof(int));
-    M->lin_u = zeros(nc);
-    M->lin_u0 = zeros(nc);
-    M->lin_y0 = zeros(nc);
-    M->lin_recorded = calloc((size_t)n + 1, sizeof(int));
-    M->lin_ready = calloc((size_t)n + 1, sizeof(int));
-    M->out_start = calloc((size_t)n + 1, sizeof(int));
-    M->out_list = calloc((size_t)nc + 1, sizeof(int));
-    M->out_vr = calloc((size_t)nc + 1, sizeof(uint32_t));
+    M->linear = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->lin_in_start = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->lin_in = zeroed(M, (size_t)nc + 1, sizeof(int));
+    M->lin_row = zeroed(M, (size_t)nc + 1, sizeof(int));
+    M->lin_u = zeros(M, nc);
+    M->lin_u0 = zeros(M, nc);
+    M->lin_y0 = zeros(M, nc);
+    M->lin_recorded = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->lin_ready = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->out_start = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->out_list = zeroed(M, (size_t)nc + 1, sizeof(int));
+    M->out_vr = zeroed(M, (size_t)nc + 1, sizeof(uint32_t));
     if (!M->linear || !M->lin_recorded || !M->lin_ready || !M->lin_in_start || !M->lin_in ||
         !M->lin_row || !M->lin_u || !M->lin_u0 || !M->lin_y0 || !M->out_start || !M->out_list ||
         !M->out_vr)
@@ -2011,7 +2016,7 @@ static int allocate_linear(me_master *M)
     eng_inputs_by_target(s->couplings, nc, n, M->linear, M->lin_in_start, M->lin_in);
     /* an instance dropped here keeps rows that are never read */
     total = eng_linear_rows(s->couplings, nc, M->lin_in_start, M->linear, 1, M->lin_row);
-    M->lin_J = calloc(total + 1, sizeof(double));
+    M->lin_J = zeroed(M, total + 1, sizeof(double));
     if (!M->lin_J) return -1;
     for (i = 0; i < n; i++) M->any_linear = M->any_linear || M->linear[i];
     for (k = 0; k < s->n_columns; k++) {
@@ -2030,15 +2035,15 @@ static int allocate_local_events(me_master *M)
     const eng_me_spec *s = M->spec;
     const size_t n1 = (size_t)M->n + 1;
     int i;
-    M->part = calloc(n1, sizeof(int));
-    M->part_list = calloc(n1, sizeof(int));
-    M->prepared = calloc(n1, sizeof(int));
-    M->prepared_list = calloc(n1, sizeof(int));
-    M->touched = calloc(n1, sizeof(int));
-    M->asked = calloc(n1, sizeof(int));
-    M->next_def = calloc(n1, sizeof(int));
-    M->passive = calloc(n1, sizeof(int));
-    M->next_t = zeros(M->n);
+    M->part = zeroed(M, n1, sizeof(int));
+    M->part_list = zeroed(M, n1, sizeof(int));
+    M->prepared = zeroed(M, n1, sizeof(int));
+    M->prepared_list = zeroed(M, n1, sizeof(int));
+    M->touched = zeroed(M, n1, sizeof(int));
+    M->asked = zeroed(M, n1, sizeof(int));
+    M->next_def = zeroed(M, n1, sizeof(int));
+    M->passive = zeroed(M, n1, sizeof(int));
+    M->next_t = zeros(M, M->n);
     if (!M->part || !M->part_list || !M->prepared || !M->prepared_list || !M->touched ||
         !M->asked || !M->next_def || !M->passive || !M->next_t)
         return -1;
@@ -2055,10 +2060,10 @@ static int allocate(me_master *M)
     const eng_me_spec *s = M->spec;
     int i, width = 1, n = s->n_instances;
     M->n = n;
-    M->fmus = calloc((size_t)(n > 0 ? n : 1), sizeof *M->fmus);
-    M->x_off = calloc((size_t)n + 1, sizeof(int));
-    M->z_off = calloc((size_t)n + 1, sizeof(int));
-    M->group_changed = calloc((size_t)s->n_event_groups + 1, sizeof(int));
+    M->fmus = zeroed(M, (size_t)(n > 0 ? n : 1), sizeof *M->fmus);
+    M->x_off = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->z_off = zeroed(M, (size_t)n + 1, sizeof(int));
+    M->group_changed = zeroed(M, (size_t)s->n_event_groups + 1, sizeof(int));
     if (!M->fmus || !M->x_off || !M->z_off || !M->group_changed) return -1;
     for (i = 0; i < n; i++) {
         M->x_off[i + 1] = M->x_off[i] + s->instances[i].n_states;
@@ -2074,23 +2079,23 @@ static int allocate(me_master *M)
         int k = s->column_state[i];
         M->rows_from_states = k >= 0 && k < M->x_off[v->instance + 1] - M->x_off[v->instance];
     }
-    M->x = zeros(M->n_x);
-    M->x_tmp = zeros(M->n_x);
-    M->x_set = zeros(M->n_x);
-    M->nominals = zeros(M->n_x);
-    M->fd = zeros(M->n_x);
-    M->fd2 = zeros(M->n_x);
-    M->x_before = zeros(M->n_x);
-    M->x_start = zeros(M->n_x);
-    M->asleep = calloc((size_t)M->n + 1, sizeof(int));
-    M->evaluate_at = calloc((size_t)M->n + 1, sizeof(int));
-    M->timed = calloc((size_t)M->n + 1, sizeof(int));
-    M->unmoved = calloc((size_t)M->n + 1, sizeof(int));
-    M->needed = calloc((size_t)s->n_couplings + 1, sizeof(int));
-    M->timed_t = zeros(M->n);
-    M->timed_dx = zeros(M->n_x);
-    M->timed_y = zeros(s->n_couplings);
-    M->timed_rate = zeros(s->n_couplings);
+    M->x = zeros(M, M->n_x);
+    M->x_tmp = zeros(M, M->n_x);
+    M->x_set = zeros(M, M->n_x);
+    M->nominals = zeros(M, M->n_x);
+    M->fd = zeros(M, M->n_x);
+    M->fd2 = zeros(M, M->n_x);
+    M->x_before = zeros(M, M->n_x);
+    M->x_start = zeros(M, M->n_x);
+    M->asleep = zeroed(M, (size_t)M->n + 1, sizeof(int));
+    M->evaluate_at = zeroed(M, (size_t)M->n + 1, sizeof(int));
+    M->timed = zeroed(M, (size_t)M->n + 1, sizeof(int));
+    M->unmoved = zeroed(M, (size_t)M->n + 1, sizeof(int));
+    M->needed = zeroed(M, (size_t)s->n_couplings + 1, sizeof(int));
+    M->timed_t = zeros(M, M->n);
+    M->timed_dx = zeros(M, M->n_x);
+    M->timed_y = zeros(M, s->n_couplings);
+    M->timed_rate = zeros(M, s->n_couplings);
     if (!M->timed || !M->unmoved || !M->needed || !M->timed_t || !M->timed_dx || !M->timed_y ||
         !M->timed_rate)
         return -1;
@@ -2111,23 +2116,23 @@ static int allocate(me_master *M)
         M->any_unmoved = M->any_unmoved || M->unmoved[i];
     }
     if (allocate_local_events(M)) return -1;
-    M->z_prev = zeros(M->n_z);
-    M->z_now = zeros(M->n_z);
-    M->z_hit = zeros(M->n_z);
-    M->z_work = zeros((int)MF_LOCATE_WORK(M->n_z, s->event_subsamples));
-    M->values = zeros(s->n_couplings);
-    M->values_new = zeros(s->n_couplings);
-    M->sent = zeros(s->n_couplings);
-    M->read = zeros(s->n_couplings);
-    M->pending_vr = calloc((size_t)s->n_couplings + 1, sizeof(uint32_t));
-    M->pending_value = zeros(s->n_couplings);
+    M->z_prev = zeros(M, M->n_z);
+    M->z_now = zeros(M, M->n_z);
+    M->z_hit = zeros(M, M->n_z);
+    M->z_work = zeros(M, (int)MF_LOCATE_WORK(M->n_z, s->event_subsamples));
+    M->values = zeros(M, s->n_couplings);
+    M->values_new = zeros(M, s->n_couplings);
+    M->sent = zeros(M, s->n_couplings);
+    M->read = zeros(M, s->n_couplings);
+    M->pending_vr = zeroed(M, (size_t)s->n_couplings + 1, sizeof(uint32_t));
+    M->pending_value = zeros(M, s->n_couplings);
     if (!M->sent || !M->read || !M->pending_vr || !M->pending_value) return -1;
-    if (allocate_loops(M) || plan_allocate(&M->all, s->n_couplings) ||
-        plan_couplings(M, &M->all, NULL) || plan_allocate(&M->between, s->n_couplings) ||
+    if (allocate_loops(M) || plan_allocate(M, &M->all, s->n_couplings) ||
+        plan_couplings(M, &M->all, NULL) || plan_allocate(M, &M->between, s->n_couplings) ||
         plan_couplings(M, &M->between, s->continuous) || plan_rows(M) || plan_set_again(M) ||
         plan_local(M))
         return -1;
-    M->row = zeros(width);
+    M->row = zeros(M, width);
     if (!M->x || !M->x_tmp || !M->x_set || !M->nominals || !M->fd || !M->fd2 || !M->x_before
         || !M->x_start || !M->asleep || !M->evaluate_at || !M->z_prev || !M->z_now ||
         !M->z_hit || !M->z_work || !M->values || !M->values_new || !M->row)
@@ -2150,29 +2155,9 @@ static void release(me_master *M)
     mf_ros_free(&M->ros);
     mf_dopri_free(&M->dopri);
     eng_jacobian_free(M->exact);
-    free(M->fmus); free(M->x_off); free(M->z_off); free(M->group_changed);
-    free(M->x); free(M->x_tmp); free(M->x_set); free(M->nominals); free(M->fd); free(M->fd2);
-    free(M->x_before);
-    free(M->x_start); free(M->asleep); free(M->evaluate_at);
-    free(M->timed); free(M->unmoved); free(M->needed);
-    free(M->linear); free(M->lin_recorded); free(M->lin_ready); free(M->lin_in_start);
-    free(M->out_start); free(M->out_list); free(M->out_vr); free(M->lin_in); free(M->lin_row);
-    free(M->lin_u); free(M->lin_u0); free(M->lin_y0); free(M->lin_J);
-    free(M->timed_t); free(M->timed_dx); free(M->timed_y); free(M->timed_rate);
-    free(M->z_prev); free(M->z_now); free(M->z_hit); free(M->z_work);
-    free(M->values); free(M->values_new); free(M->row);
-    free(M->sent); free(M->read); plan_free(&M->between); plan_free(&M->rows);
-    plan_free(&M->all);
     if (M->loops)
         for (i = 0; i < M->n_loops; i++) eng_loop_free(&M->loops[i]);
-    free(M->loops); free(M->loop_of); free(M->loop_dd); free(M->members);
-    free(M->row_instance); free(M->set_again);
-    if (M->local)
-        for (i = 0; i < M->n; i++) plan_free(&M->local[i]);
-    free(M->local); free(M->local_start); free(M->local_instance); free(M->shared_z);
-    free(M->pending_vr); free(M->pending_value);
-    free(M->part); free(M->part_list); free(M->prepared); free(M->prepared_list);
-    free(M->touched); free(M->asked); free(M->next_def); free(M->passive); free(M->next_t);
+    eng_arena_free(&M->arena); /* every other array allocate took */
 }
 
 /* The spec's own mistakes, before anything is loaded. */
