@@ -254,15 +254,29 @@ mf_dopri_result mf_dopri_step(mf_dopri *s, mf_rhs_fn f, void *ctx, double *t, do
     }
 }
 
+static double dense_theta(const mf_dopri *s, double t)
+{
+    return s->h_old > 0.0 ? (t - s->t_old) / s->h_old : 1.0;
+}
+
+static double dense_component(const mf_dopri *s, double theta, int i)
+{
+    const double theta1 = 1.0 - theta;
+    return s->r[0][i] +
+           theta * (s->r[1][i] +
+                    theta1 * (s->r[2][i] + theta * (s->r[3][i] + theta1 * s->r[4][i])));
+}
+
 void mf_dopri_dense(const mf_dopri *s, double t, double *x)
 {
     int i;
-    double theta, theta1;
+    double theta;
     if (s->n == 0) return;
-    theta = s->h_old > 0.0 ? (t - s->t_old) / s->h_old : 1.0;
-    theta1 = 1.0 - theta;
-    for (i = 0; i < s->n; i++)
-        x[i] = s->r[0][i] +
-               theta * (s->r[1][i] +
-                        theta1 * (s->r[2][i] + theta * (s->r[3][i] + theta1 * s->r[4][i])));
+    theta = dense_theta(s, t);
+    for (i = 0; i < s->n; i++) x[i] = dense_component(s, theta, i);
+}
+
+double mf_dopri_dense_one(const mf_dopri *s, double t, int i)
+{
+    return dense_component(s, dense_theta(s, t), i);
 }

@@ -62,5 +62,8 @@ mf_dopri_result mf_dopri_step(mf_dopri *s, mf_rhs_fn f, void *ctx, double *t, do
 
 /* 4th-order continuous extension of the last accepted step, at time t in it. */
 void mf_dopri_dense(const mf_dopri *s, double t, double *x);
+/* Its component i alone, the value mf_dopri_dense writes to x[i] (a few recorded states
+   of many cost that few interpolations). */
+double mf_dopri_dense_one(const mf_dopri *s, double t, int i);
 
 #endif

@@ -337,13 +337,27 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
     }
 }
 
+static double ros_theta(const mf_ros *s, double t)
+{
+    return s->h_old > 0.0 ? (t - s->t_old) / s->h_old : 1.0;
+}
+
+static double ros_component(const mf_ros *s, double th, int i)
+{
+    return (1.0 - th) * s->dx0[i] + th * s->dx1[i] +
+           th * (1.0 - th) * (s->dc0[i] + th * s->dc1[i]);
+}
+
 void mf_ros_dense(const mf_ros *s, double t, double *x)
 {
     int i;
-    double th, h = s->h_old;
+    double th;
     if (s->n == 0) return;
-    th = h > 0.0 ? (t - s->t_old) / h : 1.0;
-    for (i = 0; i < s->n; i++)
-        x[i] = (1.0 - th) * s->dx0[i] + th * s->dx1[i] +
-               th * (1.0 - th) * (s->dc0[i] + th * s->dc1[i]);
+    th = ros_theta(s, t);
+    for (i = 0; i < s->n; i++) x[i] = ros_component(s, th, i);
+}
+
+double mf_ros_dense_one(const mf_ros *s, double t, int i)
+{
+    return ros_component(s, ros_theta(s, t), i);
 }

@@ -79,5 +79,7 @@ mf_ros_result mf_ros_step(mf_ros *s, mf_rhs_fn f, mf_jac_fn jac, void *ctx, doub
    which Hermite turns into a bulge of h rho delta / 4, while every stage carries
    (I / (h gamma) - J)^-1 and keeps it near delta. */
 void mf_ros_dense(const mf_ros *s, double t, double *x);
+/* Its component i alone, the value mf_ros_dense writes to x[i]. */
+double mf_ros_dense_one(const mf_ros *s, double t, int i);
 
 #endif
