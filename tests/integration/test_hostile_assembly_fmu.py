@@ -10,6 +10,7 @@ time; a request that can be done is done (time advances by the step asked for).
 """
 import json
 import math
+import os
 import re
 import shutil
 import subprocess
@@ -20,7 +21,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-TIMEOUT = 60  # per child: a hang fails the test here instead of stalling the suite
+# per child: a hang fails the test here instead of stalling the suite. `make asan` builds
+# the FMUs with AddressSanitizer, which runs them about 4x slower: doStep(0, 1e6) in mode
+# 'me' (1e6 s in steps of at most the output interval) takes 17-22 s plain, over 60 s so
+SLOWDOWN = 4 if os.environ.get("MECHFMU_SANITIZE") == "1" else 1
+TIMEOUT = 60 * SLOWDOWN
 
 
 def pushed_block():
