@@ -952,6 +952,18 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
 
 static int settle_linear(me_master *M, double t, int recorded);
 
+/* Where column c's value is among the states (rows_from_states). */
+static int recorded_state(const me_master *M, int c)
+{
+    return M->x_off[M->spec->columns[c].instance] + M->spec->column_state[c];
+}
+
+/* Whether output row k is due before `limit` (or at it, when inclusive). */
+static int row_due(const eng_me_spec *s, long k, double limit, int inclusive)
+{
+    return k < s->n_times && (s->times[k] < limit || (inclusive && s->times[k] <= limit));
+}
+
 static int write_row(me_master *M, double t, const double *x)
 {
     const eng_me_spec *s = M->spec;
@@ -966,7 +978,7 @@ static int write_row(me_master *M, double t, const double *x)
     for (c = 0; c < s->n_columns; c++) {
         const eng_variable *v = &s->columns[c];
         if (M->rows_from_states)
-            row[c] = x[M->x_off[v->instance] + s->column_state[c]];
+            row[c] = x[recorded_state(M, c)];
         else if (eng_get_value(M->fmus[v->instance], v, &row[c]))
             return failed(M, v->instance, "reading the recorded outputs", t);
     }
@@ -983,11 +995,11 @@ static void emit_states_until(me_master *M, double limit, int inclusive)
     const eng_me_spec *s = M->spec;
     long k = M->k_out;
     int c;
-    while (k < s->n_times && (s->times[k] < limit || (inclusive && s->times[k] <= limit))) {
+    while (row_due(s, k, limit, inclusive)) {
         const double t = s->times[k];
         double *row = s->out + (size_t)k * (size_t)s->n_columns;
         for (c = 0; c < s->n_columns; c++) {
-            const int j = M->x_off[s->columns[c].instance] + s->column_state[c];
+            const int j = recorded_state(M, c);
             row[c] = M->dense_implicit ? mf_ros_dense_one(&M->ros, t, j)
                                        : mf_dopri_dense_one(&M->dopri, t, j);
         }
@@ -1006,8 +1018,7 @@ static int emit_until(me_master *M, double limit, int inclusive, int dense_outpu
         emit_states_until(M, limit, inclusive);
         return 0;
     }
-    while (M->k_out < s->n_times &&
-           (s->times[M->k_out] < limit || (inclusive && s->times[M->k_out] <= limit))) {
+    while (row_due(s, M->k_out, limit, inclusive)) {
         double t = s->times[M->k_out];
         const double *x = M->x;
         if (dense_output) {
