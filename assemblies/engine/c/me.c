@@ -1048,9 +1048,9 @@ static int group_still(const me_master *M, int group, const double *f)
     return 1;
 }
 
-/* After a step without events from `x_start`: puts to sleep each group whose states the
-   step left as they were with every derivative exactly zero (eng_me_spec.rest_group).
-   1 when every instance sleeps, 0 when not, -1 on failure. The derivatives are only
+/* After a step without events from `x_start`, or an event (x_start its point): puts to
+   sleep each group whose states the step left as they were with every derivative exactly
+   zero (eng_me_spec.rest_group). 1 when every instance sleeps, 0 when not, -1 on failure. The derivatives are only
    evaluated where some group's states stood still. */
 static int fall_asleep(me_master *M, double t)
 {
@@ -1686,7 +1686,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
     while (t < target - eps_t && !M->terminate) {
         double bound = M->next_defined && M->t_next < target ? M->t_next : target;
         double t_old = t, t_event;
-        int found, step_event;
+        int found, step_event, rest = 0;
         /* time events count too: a member whose next time event stays at t would
            otherwise hold the loop here */
         if (eng_budget_spend(&budget, t, target, why, sizeof why))
@@ -1727,6 +1727,14 @@ static int advance(me_master *M, double target, eng_progress *progress)
             mark_groups(M, M->z_hit);
             if (completed_step(M, t, &step_event)) return -1;
             if (handle_event(M, t, M->z_hit)) return -1;
+            if (!M->terminate && target >= s->stop_time && s->rest_group) {
+                /* what the event left, as a step would find it: where every derivative
+                   of an autonomous group is exactly zero, each stage of a step is the
+                   same point, and so are its indicators (the block that sticks for good
+                   rests from the event, not from the end of a step after it) */
+                memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
+                rest = fall_asleep(M, t);
+            }
         } else {
             if (emit_until(M, t, 1, 1)) return -1;
             memcpy(M->z_prev, M->z_now, (size_t)M->n_z * sizeof(double));
@@ -1736,15 +1744,15 @@ static int advance(me_master *M, double target, eng_progress *progress)
                 clear_groups(M);
                 if (handle_event(M, t, M->z_now)) return -1;
             } else if (!M->terminate && target >= s->stop_time) {
-                int rest = fall_asleep(M, t);
-                if (rest < 0) return -1;
-                if (rest) { /* nothing moves any more: no more steps */
-                    M->stats->at_rest_from = t;
-                    if (rest_rows(M)) return -1;
-                    t = target;
-                    break;
-                }
+                rest = fall_asleep(M, t);
             }
+        }
+        if (rest < 0) return -1;
+        if (rest) { /* nothing moves any more: no more steps */
+            M->stats->at_rest_from = t;
+            if (rest_rows(M)) return -1;
+            t = target;
+            break;
         }
         M->stats->t_end = t;
         if (!M->terminate && eng_progress_check(progress, t)) return 1;
