@@ -46,7 +46,7 @@ from .masters.loops import loop_order
 
 FMU_C_DIR = Path(__file__).parent / "engine" / "fmu"
 # the engine's files the FMU links: its two masters and what they stand on
-ENGINE_FILES = ("arena", "cosim", "me", "jacobian", "loop", "linear_map", "fmu", "instances",
+ENGINE_FILES = ("arena", "cosim", "dop853", "me", "jacobian", "loop", "linear_map", "fmu", "instances",
                 "output")
 # the members' variable types the interface passes on (the engine reads Float64/Int32)
 _TYPES = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Integer"}

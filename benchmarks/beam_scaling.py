@@ -131,7 +131,7 @@ def exponent(rows: list[dict], low: int = 4, high: int = 64) -> float:
 
 METHOD_SIZES = (4, 8, 16, 32, 64)
 METHOD_TARGET = 1e-6
-ENGINE_METHODS = ("auto", "DOPRI5", "RODAS3")
+ENGINE_METHODS = ("auto", "DOPRI5", "DOP853", "RODAS3")
 
 
 def _method_runners(n: int) -> tuple[dict, dict]:

@@ -72,7 +72,8 @@ class Stats(C.Structure):  # eng_stats
                 ("jacobian_note", C.c_char * 512),
                 ("jacobian_groups", C.c_long), ("jacobian_evaluations", C.c_long),
                 ("jacobian_band", C.c_long), ("loop_iterations", C.c_long),
-                ("loop_matrices", C.c_long), ("event_instances", C.c_long)]
+                ("loop_matrices", C.c_long), ("event_instances", C.c_long),
+                ("explicit_order", C.c_int)]
 
 
 def _numbers_layout(structure) -> tuple[struct.Struct, type]:

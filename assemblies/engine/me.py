@@ -49,9 +49,12 @@ ca = lazy("casadi")  # loaded by the first equation written, not by an import
 # per run, per instance / whole: 8 blocks 2.49 / 2.19 ms, 32: 11.8 / 13.4, 128: 57 / 74)
 LOCAL_EVENTS_FROM = 16
 
-#: the integrators; "auto" starts with DOPRI5 and switches to RODAS3 where stiffness shows
-#: and back where it is gone (fmus/runtime/stiffness.h)
-METHODS = {name: value for value, name in SOLVER_METHODS.items()}  # the C's ENG_* values
+#: the integrators; "auto" starts with the explicit method and switches to RODAS3 where
+#: stiffness shows and back where it is gone (fmus/runtime/stiffness.h). Its explicit
+#: method is DOPRI5, or DOP853 (8th order) at tolerances up to 1e-8 (engine.h,
+#: ENG_HIGH_ORDER_TOLERANCE; settings["explicit_method"] says which). The C's ENG_* values:
+METHODS = {**{name: value for value, name in SOLVER_METHODS.items()}, "DOP853": 3}
+EXPLICIT_METHODS = {5: "DOPRI5", 8: "DOP853"}  # eng_stats.explicit_order
 # at most this many interior points per step, sampled only where an indicator's values and
 # rates at the step's ends leave room for it to cross twice inside (events.h)
 EVENT_SUBSAMPLES = 4
@@ -330,6 +333,7 @@ class _Plan:
             "steps": f.steps, "rejected": f.rejected, "events": f.events,
             "rhs_calls": f.rhs_calls, "jacobians": f.jacobians,
             "method_switches": f.method_switches,
+            "explicit_method": EXPLICIT_METHODS.get(f.explicit_order),
             "jacobian_groups": f.jacobian_groups,
             "jacobian_evaluations": f.jacobian_evaluations,
             "jacobian_band": f.jacobian_band,

@@ -87,7 +87,7 @@ def test_stick_slip_is_the_exact_coulomb_solution():
         assert abs(t - t_ref) < 1e-8 and mode == mode_ref
 
 
-@pytest.mark.parametrize("method", ["DOPRI5", "RODAS3"])
+@pytest.mark.parametrize("method", ["DOPRI5", "DOP853", "RODAS3"])
 def test_friction_damping_is_the_exact_solution(method):
     sc = scene("friction_damping")
     res = simulate_monolithic(sc.build(), 20.0, 0.05, 1e-10, record=sc.record, method=method)

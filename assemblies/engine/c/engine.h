@@ -134,8 +134,18 @@ typedef struct {
 typedef int (*eng_progress_fn)(void *ctx, double t);
 
 enum { ENG_DONE = 0, ENG_STOPPED = 1, ENG_TERMINATED = 2, ENG_FAILED = -1 };
-/* ENG_AUTO: DOPRI5 until stiffness shows, then RODAS3 until it is gone (stiffness.h) */
-enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1, ENG_AUTO = 2 };
+/* ENG_AUTO: the explicit method until stiffness shows, then RODAS3 until it is gone
+   (stiffness.h); the explicit method is DOPRI5, or DOP853 at tolerances up to
+   ENG_HIGH_ORDER_TOLERANCE. ENG_DOP853: DOP853 throughout, as ENG_DOPRI5 is DOPRI5. */
+enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1, ENG_AUTO = 2, ENG_DOP853 = 3 };
+/* Where the 8th order pays on every scene measured (2026-11-28; evaluations for the
+   error DOPRI5 reaches, its continuous extension's three extra stages counted; the
+   scenes of benchmarks/single_limit.py): at 1e-9 the axle pendulum, the rolling coin
+   and stick_slip take 0.48, 0.40 and 0.62 of DOPRI5's. At 1e-7 the axle (0.70) and the
+   coin (0.57) still gain, but stick_slip ties (1.01: after each of its 23 events a step
+   restarts with 12 stages) and the assumed-modes beam at N = 16 costs 1.2x DOPRI5's
+   CPU (benchmarks/beam_scaling.py --methods); at 1e-6 stick_slip loses (1.25). */
+#define ENG_HIGH_ORDER_TOLERANCE 1e-8
 /* Model Exchange's Jacobian. AUTO: from directional derivatives where every instance
    has them, unless a foreign instance's disagree with central differences at the first
    point (or a call fails): then by finite differences. FD: always by differences.
@@ -167,6 +177,7 @@ typedef struct {
     /* Model Exchange: instances that took part in an event (event mode, discrete updates),
        summed over the events: n_instances per event where every instance does */
     long event_instances;
+    int explicit_order;   /* the explicit method's: 5 (DOPRI5) or 8 (DOP853); 0 for RODAS3 */
 } eng_stats;
 
 typedef struct {

@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "arena.h"
+#include "dop853.h"
 #include "engine.h"
 #include "events.h"
 #include "instances.h"
@@ -129,6 +130,8 @@ typedef struct {
     int event_was_local;  /* the last event_iteration took part of the assembly only */
     int z_now_valid;      /* z_now holds the indicators at (M->t, M->x) */
     mf_dopri dopri;
+    eng_dop853 dop853;
+    int high_order;       /* the explicit steps are DOP853's, not DOPRI5's */
     mf_ros ros;
     mf_stiffness stiff;   /* which of the two takes the next step */
     int dense_implicit;   /* the last accepted step was RODAS3's */
@@ -740,10 +743,25 @@ static int indicators_at(me_master *M, double t, const double *x, double *z)
 
 /* --- the solver ---------------------------------------------------------------- */
 
+/* Whether output row k is due before `limit` (or at it, when inclusive). */
+static int row_due(const eng_me_spec *s, long k, double limit, int inclusive)
+{
+    return k < s->n_times && (s->times[k] < limit || (inclusive && s->times[k] <= limit));
+}
+
 static void dense(const me_master *M, double t, double *x)
 {
     if (M->dense_implicit) mf_ros_dense(&M->ros, t, x);
+    else if (M->high_order) eng_dop853_dense(&M->dop853, t, x);
     else mf_dopri_dense(&M->dopri, t, x);
+}
+
+/* State j of the dense output alone (emit_states_until) */
+static double dense_one(const me_master *M, double t, int j)
+{
+    if (M->dense_implicit) return mf_ros_dense_one(&M->ros, t, j);
+    if (M->high_order) return eng_dop853_dense_one(&M->dop853, t, j);
+    return mf_dopri_dense_one(&M->dopri, t, j);
 }
 
 /* mf_indicator_fn: the indicators inside the last accepted step */
@@ -766,6 +784,11 @@ static void dense_part(const me_master *M, double t, double *x, int k)
         part.n = n;
         part.dx0 += lo; part.dx1 += lo; part.dc0 += lo; part.dc1 += lo;
         mf_ros_dense(&part, t, x + lo);
+    } else if (M->high_order) {
+        eng_dop853 part = M->dop853;
+        part.n = n;
+        for (j = 0; j < 8; j++) part.r[j] += lo;
+        eng_dop853_dense(&part, t, x + lo);
     } else {
         mf_dopri part = M->dopri;
         part.n = n;
@@ -876,18 +899,58 @@ static int locate(me_master *M, double t_old, double t, double *t_event)
     return found;
 }
 
+/* The explicit method's restart, step and step-size proposal: DOP853's where
+   M->high_order, else DOPRI5's. */
+static void explicit_restart(me_master *M)
+{
+    if (M->high_order) eng_dop853_restart(&M->dop853);
+    else mf_dopri_restart(&M->dopri);
+}
+
+static double *explicit_h_guess(me_master *M)
+{
+    return M->high_order ? &M->dop853.h_guess : &M->dopri.h_guess;
+}
+
 static void restart(me_master *M)
 {
-    mf_dopri_restart(&M->dopri);
+    explicit_restart(M);
     mf_ros_restart(&M->ros);
+}
+
+/* One accepted explicit step, as mf_dopri_step, and its h |lambda| in DOPRI5's terms
+   (stiffness.h judges by DOPRI5's stability interval). DOP853's continuous extension is
+   made where something reads inside the step: a row before its end, or event location. */
+static int explicit_step(me_master *M, double *t, double t_end, double h_initial,
+                         double *h_lambda)
+{
+    const double t0 = *t;
+    int r;
+    if (!M->high_order) {
+        r = mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
+        *h_lambda = M->dopri.h_lambda;
+        return r;
+    }
+    r = eng_dop853_step(&M->dop853, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
+    *h_lambda = M->dop853.h_lambda * ENG_DOP853_EDGE_RATIO;
+    if (r == MF_DOPRI_OK && (M->n_z > 0 || row_due(M->spec, M->k_out, *t, 0)) &&
+        eng_dop853_dense_prepare(&M->dop853, rhs, M)) {
+        /* the step stands; f failed at a point of its continuous extension */
+        fail(M, "the model could not be evaluated inside the step from t = %.10g to %.10g "
+                "(DOP853's continuous extension): %.800s", t0, *t,
+             M->message[0] ? M->message : "not finite");
+        return -1;
+    }
+    return r;
 }
 
 /* The Jacobian at the point an explicit step reached, into the implicit solver's
    matrix (the periodic stiffness check): the forward differences need f there, which
-   DOPRI5 holds as the next step's first stage. */
+   the explicit method holds as the next step's first stage. */
 static int explicit_jacobian(me_master *M, double t)
 {
-    memcpy(M->ros.f0, M->dopri.k[0], (size_t)M->n_x * sizeof(double));
+    memcpy(M->ros.f0, M->high_order ? M->dop853.k[0] : M->dopri.k[0],
+           (size_t)M->n_x * sizeof(double));
     return jacobian(M, t, M->x, M->ros.jac);
 }
 
@@ -906,23 +969,29 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
             M->dense_implicit = 1;
             if (automatic && mf_stiffness_after_implicit(&M->stiff, *t - t0, M->ros.jac,
                                                          M->n_x)) {
-                mf_dopri_restart(&M->dopri);
-                M->dopri.h_guess = M->ros.h_guess;
+                explicit_restart(M);
+                *explicit_h_guess(M) = M->ros.h_guess;
             }
             return 0;
         }
         r = r == MF_ROS_RHS_FAILED ? MF_DOPRI_RHS_FAILED : MF_DOPRI_STEP_UNDERFLOW;
     } else {
-        r = mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
+        double h_lambda;
+        r = explicit_step(M, t, t_end, h_initial, &h_lambda);
+        if (r < 0) return -1;
         if (r == MF_DOPRI_OK) {
+            /* DOP853's stability interval is wider: the check takes its proposal in
+               DOPRI5's terms too */
+            const double h_check = *explicit_h_guess(M) *
+                                   (M->high_order ? ENG_DOP853_EDGE_RATIO : 1.0);
             M->dense_implicit = 0;
-            if (automatic && (mf_stiffness_after_explicit(&M->stiff, *t - t0, M->dopri.h_lambda)
+            if (automatic && (mf_stiffness_after_explicit(&M->stiff, *t - t0, h_lambda)
                               || (mf_stiffness_wants_jacobian(&M->stiff)
                                   && explicit_jacobian(M, *t) == 0
-                                  && mf_stiffness_explicit_check(&M->stiff, M->dopri.h_guess,
+                                  && mf_stiffness_explicit_check(&M->stiff, h_check,
                                                                  M->ros.jac, M->n_x)))) {
                 mf_ros_restart(&M->ros);
-                M->ros.h_guess = M->dopri.h_guess;
+                M->ros.h_guess = *explicit_h_guess(M);
             }
             return 0;
         }
@@ -956,12 +1025,6 @@ static int settle_linear(me_master *M, double t, int recorded);
 static int recorded_state(const me_master *M, int c)
 {
     return M->x_off[M->spec->columns[c].instance] + M->spec->column_state[c];
-}
-
-/* Whether output row k is due before `limit` (or at it, when inclusive). */
-static int row_due(const eng_me_spec *s, long k, double limit, int inclusive)
-{
-    return k < s->n_times && (s->times[k] < limit || (inclusive && s->times[k] <= limit));
 }
 
 static int write_row(me_master *M, double t, const double *x)
@@ -1000,8 +1063,7 @@ static void emit_states_until(me_master *M, double limit, int inclusive)
         double *row = s->out + (size_t)k * (size_t)s->n_columns;
         for (c = 0; c < s->n_columns; c++) {
             const int j = recorded_state(M, c);
-            row[c] = M->dense_implicit ? mf_ros_dense_one(&M->ros, t, j)
-                                       : mf_dopri_dense_one(&M->dopri, t, j);
+            row[c] = dense_one(M, t, j);
         }
         k++;
     }
@@ -1626,7 +1688,8 @@ static int exit_initialization(me_master *M)
     if (indicators_at(M, t0, M->x, M->z_prev)) return -1;
     memcpy(M->z_now, M->z_prev, (size_t)M->n_z * sizeof(double));
     M->z_now_valid = 1;
-    if (M->exact_wanted && s->jacobian == ENG_JACOBIAN_AUTO && s->method != ENG_DOPRI5) {
+    if (M->exact_wanted && s->jacobian == ENG_JACOBIAN_AUTO &&
+        s->method != ENG_DOPRI5 && s->method != ENG_DOP853) {
         int foreign = 0;
         for (i = 0; i < M->n; i++) foreign = foreign || s->instances[i].foreign;
         if (foreign && probe_jacobian(M, t0)) return -1;
@@ -2190,7 +2253,11 @@ static int allocate(me_master *M)
     M->exact_wanted = s->jacobian != ENG_JACOBIAN_FD && !M->n_loops && eng_jacobian_possible(s);
     M->stats->exact_jacobian = M->exact_wanted;
     /* both methods, whichever the run starts with: the automatic choice may take either */
-    if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x)) return -1;
+    M->high_order = s->method == ENG_DOP853 ||
+                    (s->method == ENG_AUTO && s->tolerance <= ENG_HIGH_ORDER_TOLERANCE);
+    if (mf_ros_alloc(&M->ros, M->n_x) || mf_dopri_alloc(&M->dopri, M->n_x) ||
+        (M->high_order && eng_dop853_alloc(&M->dop853, M->n_x)))
+        return -1;
     mf_stiffness_reset(&M->stiff, s->method == ENG_RODAS3);
     M->dense_implicit = M->stiff.implicit;
     return 0;
@@ -2203,6 +2270,7 @@ static void release(me_master *M)
         for (i = 0; i < M->n; i++) fmu_free(M->fmus[i]);
     mf_ros_free(&M->ros);
     mf_dopri_free(&M->dopri);
+    eng_dop853_free(&M->dop853);
     eng_jacobian_free(M->exact);
     if (M->loops)
         for (i = 0; i < M->n_loops; i++) eng_loop_free(&M->loops[i]);
@@ -2218,7 +2286,8 @@ static const char *spec_defect(const eng_me_spec *s)
     if (s->n_times > 0 && (!isfinite(s->times[0]) || !(s->times[0] < s->stop_time)))
         return "start time (the first output time) must be finite and before the stop time";
     if (!(s->tolerance > 0.0) || !(s->tolerance < 1.0)) return "tolerance must be in (0, 1)";
-    if (s->method != ENG_DOPRI5 && s->method != ENG_RODAS3 && s->method != ENG_AUTO)
+    if (s->method != ENG_DOPRI5 && s->method != ENG_RODAS3 && s->method != ENG_AUTO &&
+        s->method != ENG_DOP853)
         return "unknown method";
     if (s->event_subsamples < 0) return "event_subsamples must be >= 0";
     if (s->jacobian != ENG_JACOBIAN_AUTO && s->jacobian != ENG_JACOBIAN_FD &&
@@ -2301,7 +2370,8 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
         stats->status = ENG_FAILED;
         snprintf(stats->message, sizeof stats->message, "%s", M.message);
     }
-    stats->rejected = M.dopri.n_rejected + M.ros.n_rejected;
+    stats->rejected = M.dopri.n_rejected + M.dop853.n_rejected + M.ros.n_rejected;
+    stats->explicit_order = spec->method == ENG_RODAS3 ? 0 : M.high_order ? 8 : 5;
     /* RODAS3's and the stiffness checks' alike: each is an evaluation of the whole matrix */
     stats->jacobians = M.ros.n_jac + M.stiff.jacobians_checked;
     stats->method_switches = M.stiff.switches;
