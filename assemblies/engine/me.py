@@ -52,7 +52,8 @@ LOCAL_EVENTS_FROM = 16
 #: the integrators; "auto" starts with the explicit method and switches to RODAS3 where
 #: stiffness shows and back where it is gone (fmus/runtime/stiffness.h). Its explicit
 #: method is DOPRI5, or DOP853 (8th order) at tolerances up to 1e-8 (engine.h,
-#: ENG_HIGH_ORDER_TOLERANCE; settings["explicit_method"] says which). The C's ENG_* values:
+#: ENG_HIGH_ORDER_TOLERANCE) where the steps are not capped (step_limit_needed);
+#: settings["explicit_method"] says which. The C's ENG_* values:
 METHODS = {**{name: value for value, name in SOLVER_METHODS.items()}, "DOP853": 3}
 EXPLICIT_METHODS = {5: "DOPRI5", 8: "DOP853"}  # eng_stats.explicit_order
 # at most this many interior points per step, sampled only where an indicator's values and
