@@ -919,6 +919,24 @@ static void explicit_restart(me_master *M)
     else mf_dopri_restart(&M->dopri);
 }
 
+/* f at the current point, evaluated by someone else, as the explicit method's first
+   stage of the next step (which it then does not evaluate); a non-finite one is left
+   for the solver to find and report */
+static void explicit_take_first_stage(me_master *M, const double *f)
+{
+    int i;
+    if (M->stiff.implicit) return;
+    for (i = 0; i < M->n_x; i++)
+        if (!isfinite(f[i])) return;
+    if (M->high_order) {
+        memcpy(M->dop853.k[0], f, (size_t)M->n_x * sizeof(double));
+        M->dop853.fsal_valid = 1;
+    } else {
+        memcpy(M->dopri.k[0], f, (size_t)M->n_x * sizeof(double));
+        M->dopri.fsal_valid = 1;
+    }
+}
+
 static double *explicit_h_guess(me_master *M)
 {
     return M->high_order ? &M->dop853.h_guess : &M->dopri.h_guess;
@@ -1124,17 +1142,20 @@ static int group_still(const me_master *M, int group, const double *f)
 
 /* After a step without events from `x_start`, or an event (x_start its point): puts to
    sleep each group whose states the step left as they were with every derivative exactly
-   zero (eng_me_spec.rest_group). 1 when every instance sleeps, 0 when not, -1 on failure. The derivatives are only
-   evaluated where some group's states stood still. */
-static int fall_asleep(me_master *M, double t)
+   zero (eng_me_spec.rest_group). 1 when every instance sleeps, 0 when not, -1 on failure.
+   The derivatives are only evaluated where some group's states stood still; then
+   M->fd holds f(t, x) and *evaluated (where given) is 1. */
+static int fall_asleep(me_master *M, double t, int *evaluated)
 {
     const int *group = M->spec->rest_group;
     int i, all = 1, candidate = 0, slept = 0;
+    if (evaluated) *evaluated = 0;
     if (!group || M->n_x == 0 || M->next_defined) return 0;
     for (i = 0; i < M->n && !candidate; i++)
         candidate = !M->asleep[i] && group[i] >= 0 && group_still(M, group[i], NULL);
     if (!candidate) return 0;
     if (rhs(M, t, M->x, M->fd)) return -1;
+    if (evaluated) *evaluated = 1;
     for (i = 0; i < M->n; i++) {
         if (!M->asleep[i] && group[i] >= 0 && group_still(M, group[i], M->fd)) {
             M->asleep[i] = slept = 1;
@@ -1800,8 +1821,12 @@ static int advance(me_master *M, double target, eng_progress *progress)
                    of an autonomous group is exactly zero, each stage of a step is the
                    same point, and so are its indicators (the block that sticks for good
                    rests from the event, not from the end of a step after it) */
+                int evaluated;
                 memcpy(M->x_start, M->x, (size_t)M->n_x * sizeof(double));
-                rest = fall_asleep(M, t);
+                rest = fall_asleep(M, t, &evaluated);
+                /* the next step starts from f(t, x) (a sleeper's part is zero either
+                   way): the look costs no evaluation where nothing rests */
+                if (rest == 0 && evaluated) explicit_take_first_stage(M, M->fd);
             }
         } else {
             if (emit_until(M, t, 1, 1)) return -1;
@@ -1812,7 +1837,7 @@ static int advance(me_master *M, double target, eng_progress *progress)
                 clear_groups(M);
                 if (handle_event(M, t, M->z_now)) return -1;
             } else if (!M->terminate && target >= s->stop_time) {
-                rest = fall_asleep(M, t);
+                rest = fall_asleep(M, t, NULL);
             }
         }
         if (rest < 0) return -1;
