@@ -52,10 +52,12 @@ LOCAL_EVENTS_FROM = 16
 #: the integrators; "auto" starts with the explicit method and switches to RODAS3 where
 #: stiffness shows and back where it is gone (fmus/runtime/stiffness.h). Its explicit
 #: method is DOPRI5, or DOP853 (8th order) at tolerances up to 1e-8 (engine.h,
-#: ENG_HIGH_ORDER_TOLERANCE) where the steps are not capped (step_limit_needed);
-#: settings["explicit_method"] says which. The C's ENG_* values:
+#: ENG_HIGH_ORDER_TOLERANCE) where the steps are not capped (step_limit_needed), until
+#: events come every few steps; settings["explicit_method"] says which. The C's ENG_*
+#: values:
 METHODS = {**{name: value for value, name in SOLVER_METHODS.items()}, "DOP853": 3}
-EXPLICIT_METHODS = {5: "DOPRI5", 8: "DOP853"}  # eng_stats.explicit_order
+EXPLICIT_METHODS = {5: "DOPRI5", 8: "DOP853",  # eng_stats.explicit_order
+                    85: "DOP853, then DOPRI5 (events every few steps)"}
 # at most this many interior points per step, sampled only where an indicator's values and
 # rates at the step's ends leave room for it to cross twice inside (events.h)
 EVENT_SUBSAMPLES = 4

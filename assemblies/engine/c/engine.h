@@ -177,7 +177,9 @@ typedef struct {
     /* Model Exchange: instances that took part in an event (event mode, discrete updates),
        summed over the events: n_instances per event where every instance does */
     long event_instances;
-    int explicit_order;   /* the explicit method's: 5 (DOPRI5) or 8 (DOP853); 0 for RODAS3 */
+    /* the explicit method's order: 5 (DOPRI5) or 8 (DOP853); 85: DOP853, then DOPRI5
+       (ENG_AUTO where events came every few steps); 0 for RODAS3 */
+    int explicit_order;
 } eng_stats;
 
 typedef struct {

@@ -132,6 +132,7 @@ typedef struct {
     mf_dopri dopri;
     eng_dop853 dop853;
     int high_order;       /* the explicit steps are DOP853's, not DOPRI5's */
+    int left_high_order;  /* "auto" left DOP853 for DOPRI5 (events came too often) */
     mf_ros ros;
     mf_stiffness stiff;   /* which of the two takes the next step */
     int dense_implicit;   /* the last accepted step was RODAS3's */
@@ -984,6 +985,28 @@ static int explicit_jacobian(me_master *M, double t)
     return jacobian(M, t, M->x, M->ros.jac);
 }
 
+/* "auto" at a tight tolerance starts with DOP853 and leaves it for DOPRI5 for good once
+   events come every few steps: each event restarts the method, a step between two close
+   events is short whatever its order, and DOP853's costs 12 evaluations (15 with the
+   dense output event location reads) against DOPRI5's 6. Fewer than EVENT_DENSE_STEPS
+   accepted steps per event, counted from EVENT_DENSE_AFTER events on: the
+   Burridge-Knopoff chain (n = 250, 1e-10) has 1.1 and took 79,928 evaluations with
+   DOP853 against 34,757; stick_slip at 1e-9 has 4.7 and gains (0.62 of DOPRI5's). */
+enum { EVENT_DENSE_STEPS = 3, EVENT_DENSE_AFTER = 8 };
+
+static void leave_high_order_where_events_are_dense(me_master *M)
+{
+    const eng_stats *st = M->stats;
+    if (!M->high_order || M->spec->method != ENG_AUTO || st->events < EVENT_DENSE_AFTER ||
+        st->steps >= EVENT_DENSE_STEPS * st->events)
+        return;
+    M->high_order = 0;
+    M->left_high_order = 1;
+    M->dopri.h_guess = M->dop853.h_guess;
+    mf_dopri_restart(&M->dopri);
+    if (M->dop853.fsal_valid) explicit_take_first_stage(M, M->dop853.k[0]);
+}
+
 /* One accepted step from (*t, x) towards t_end; 0 on success. */
 static int step(me_master *M, double *t, double t_end, double h_initial)
 {
@@ -993,6 +1016,7 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
     const int automatic = M->spec->method == ENG_AUTO && t_end - t0 >= MF_MIN_STEP(t0);
     int r;
     M->message[0] = '\0';
+    leave_high_order_where_events_are_dense(M);
     if (M->stiff.implicit) {
         r = mf_ros_step(&M->ros, rhs, jacobian, M, t, M->x, t_end, M->spec->tolerance, h_initial);
         if (r == MF_ROS_OK) {
@@ -2406,7 +2430,8 @@ ENG_API eng_run *eng_simulate_me(const eng_me_spec *spec, eng_stats *stats)
         snprintf(stats->message, sizeof stats->message, "%s", M.message);
     }
     stats->rejected = M.dopri.n_rejected + M.dop853.n_rejected + M.ros.n_rejected;
-    stats->explicit_order = spec->method == ENG_RODAS3 ? 0 : M.high_order ? 8 : 5;
+    stats->explicit_order = spec->method == ENG_RODAS3 ? 0 : M.left_high_order ? 85
+                            : M.high_order ? 8 : 5;
     /* RODAS3's and the stiffness checks' alike: each is an evaluation of the whole matrix */
     stats->jacobians = M.ros.n_jac + M.stiff.jacobians_checked;
     stats->method_switches = M.stiff.switches;
