@@ -79,3 +79,15 @@ def jacobian_complex_step(f, x, h=1e-30):
         xc[k] += 1j * h
         columns.append(np.imag(f(xc)) / h)
     return np.array(columns).T
+
+
+def tilt_of(coin, times, tol=1e-13):
+    """The tilt theta(t) at `times` of a mechfmu coin instance (its values m, R, g and its
+    start angles and rates), from the equations above under scipy's DOP853 at `tol`."""
+    from scipy.integrate import solve_ivp
+    p = coin.values
+    y0 = [coin.starts[k] for k in ("phi", "theta", "psi", "phi_dot", "theta_dot", "psi_dot")]
+    return solve_ivp(lambda t, y: np.concatenate([y[3:], accelerations(y, p["m"], p["R"],
+                                                                        p["g"])[0]]),
+                     (0.0, float(times[-1])), y0, method="DOP853", rtol=tol, atol=tol,
+                     t_eval=times).y[1]
