@@ -966,10 +966,12 @@ static int explicit_step(me_master *M, double *t, double t_end, double h_initial
     *h_lambda = M->dop853.h_lambda * ENG_DOP853_EDGE_RATIO;
     if (r == MF_DOPRI_OK && (M->n_z > 0 || row_due(M->spec, M->k_out, *t, 0)) &&
         eng_dop853_dense_prepare(&M->dop853, rhs, M)) {
-        /* the step stands; f failed at a point of its continuous extension */
+        /* the step stands; f failed at a point of its continuous extension. The member's
+           reason is copied first: fail() writes M->message */
+        char why[sizeof M->message];
+        snprintf(why, sizeof why, "%s", M->message[0] ? M->message : "not finite");
         fail(M, "the model could not be evaluated inside the step from t = %.10g to %.10g "
-                "(DOP853's continuous extension): %.800s", t0, *t,
-             M->message[0] ? M->message : "not finite");
+                "(DOP853's continuous extension): %.800s", t0, *t, why);
         return -1;
     }
     return r;
@@ -2306,11 +2308,11 @@ static int allocate(me_master *M)
     /* a loop's inputs are no plain function the seeds pass through: differences */
     M->exact_wanted = s->jacobian != ENG_JACOBIAN_FD && !M->n_loops && eng_jacobian_possible(s);
     M->stats->exact_jacobian = M->exact_wanted;
-    /* both methods, whichever the run starts with: the automatic choice may take either */
-    /* "auto" takes DOP853 only where its long steps are possible: under a step cap every
-       step is at most an output interval, and an 8th-order one is accuracy wasted
-       (moving_table at 1e-8: 1,088 steps with either, DOP853's 16,449 evaluations
-       against DOPRI5's 9,639) */
+    /* DOPRI5 and RODAS3 whichever the run starts with: the automatic choice may take
+       either, and leaves DOP853 for DOPRI5 where events are dense. "auto" takes DOP853
+       only where its long steps are possible: under a step cap every step is at most an
+       output interval, and an 8th-order one is accuracy wasted (moving_table at 1e-8:
+       1,088 steps with either, DOP853's 16,449 evaluations against DOPRI5's 9,639) */
     M->high_order = s->method == ENG_DOP853 ||
                     (s->method == ENG_AUTO && s->tolerance <= ENG_HIGH_ORDER_TOLERANCE &&
                      isinf(step_cap(M)));
