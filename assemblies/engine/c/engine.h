@@ -139,8 +139,8 @@ enum { ENG_DONE = 0, ENG_STOPPED = 1, ENG_TERMINATED = 2, ENG_FAILED = -1 };
    ENG_HIGH_ORDER_TOLERANCE. ENG_DOP853: DOP853 throughout, as ENG_DOPRI5 is DOPRI5. */
 enum { ENG_DOPRI5 = 0, ENG_RODAS3 = 1, ENG_AUTO = 2, ENG_DOP853 = 3 };
 /* Where the 8th order pays on every scene measured (2026-11-28; evaluations for the
-   error DOPRI5 reaches, its continuous extension's three extra stages counted; the
-   scenes of benchmarks/single_limit.py): at 1e-9 the axle pendulum, the rolling coin
+   error DOPRI5 reaches, its continuous extension's three extra stages counted, on the
+   scenes of benchmarks/single_limit.py: python -m benchmarks.high_order): at 1e-9 the axle pendulum, the rolling coin
    and stick_slip take 0.48, 0.40 and 0.62 of DOPRI5's. At 1e-7 the axle (0.70) and the
    coin (0.57) still gain, but stick_slip ties (1.01: after each of its 23 events a step
    restarts with 12 stages) and the assumed-modes beam at N = 16 costs 1.2x DOPRI5's
