@@ -949,21 +949,15 @@ static void restart(me_master *M)
     mf_ros_restart(&M->ros);
 }
 
-/* One accepted explicit step, as mf_dopri_step, and its h |lambda| in DOPRI5's terms
-   (stiffness.h judges by DOPRI5's stability interval). DOP853's continuous extension is
-   made where something reads inside the step: a row before its end, or event location. */
-static int explicit_step(me_master *M, double *t, double t_end, double h_initial,
-                         double *h_lambda)
+/* One accepted explicit step, as mf_dopri_step. DOP853's continuous extension is made
+   where something reads inside the step: a row before its end, or event location. */
+static int explicit_step(me_master *M, double *t, double t_end, double h_initial)
 {
     const double t0 = *t;
     int r;
-    if (!M->high_order) {
-        r = mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
-        *h_lambda = M->dopri.h_lambda;
-        return r;
-    }
+    if (!M->high_order)
+        return mf_dopri_step(&M->dopri, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
     r = eng_dop853_step(&M->dop853, rhs, M, t, M->x, t_end, M->spec->tolerance, h_initial);
-    *h_lambda = M->dop853.h_lambda * ENG_DOP853_EDGE_RATIO;
     if (r == MF_DOPRI_OK && (M->n_z > 0 || row_due(M->spec, M->k_out, *t, 0)) &&
         eng_dop853_dense_prepare(&M->dop853, rhs, M)) {
         /* the step stands; f failed at a point of its continuous extension. The member's
@@ -1032,14 +1026,15 @@ static int step(me_master *M, double *t, double t_end, double h_initial)
         }
         r = r == MF_ROS_RHS_FAILED ? MF_DOPRI_RHS_FAILED : MF_DOPRI_STEP_UNDERFLOW;
     } else {
-        double h_lambda;
-        r = explicit_step(M, t, t_end, h_initial, &h_lambda);
+        r = explicit_step(M, t, t_end, h_initial);
         if (r < 0) return -1;
         if (r == MF_DOPRI_OK) {
-            /* DOP853's stability interval is wider: the check takes its proposal in
-               DOPRI5's terms too */
-            const double h_check = *explicit_h_guess(M) *
-                                   (M->high_order ? ENG_DOP853_EDGE_RATIO : 1.0);
+            /* stiffness.h judges by DOPRI5's stability interval: DOP853's, wider, gives
+               its h |lambda| and its proposal in DOPRI5's terms */
+            const double scale = M->high_order ? ENG_DOP853_EDGE_RATIO : 1.0;
+            const double h_lambda =
+                scale * (M->high_order ? M->dop853.h_lambda : M->dopri.h_lambda);
+            const double h_check = scale * *explicit_h_guess(M);
             M->dense_implicit = 0;
             if (automatic && (mf_stiffness_after_explicit(&M->stiff, *t - t0, h_lambda)
                               || (mf_stiffness_wants_jacobian(&M->stiff)
